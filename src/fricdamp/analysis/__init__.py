@@ -1,0 +1,1 @@
+"""Post-processing: hysteresis loops and energy, damping identification, signals."""

@@ -1,0 +1,190 @@
+"""The contact-law protocol shared by every solver.
+
+A contact law acts on ``n_contacts`` contacts at once. Each contact has ``n_dir`` local
+relative displacement components (1 for a 1D slider; 3 for the "3D contact element":
+normal, tangential 1, tangential 2) and ``n_state`` internal state variables (slider
+positions, Masing turning points, ...). The state is explicit: a law never keeps hidden
+history, so a Newton iteration can call :meth:`ContactLaw.step` repeatedly from the last
+converged state and commit the new state only once it has converged.
+
+Sign convention
+---------------
+``u`` is the relative displacement seen by the contact (``u = P q`` through the contact
+element's projection matrix ``P``) and ``force`` is the force the contact *resists* it with,
+so the equations of motion read ``M q'' + D q' + K q + P^T f(u) = F(t)``. A linear spring
+of stiffness k is the law ``f = k u``. For normal directions ``u_n > 0`` means approach
+(closing the gap, increasing interference) and ``f_n >= 0`` is compressive.
+
+Shapes
+------
+``u``, ``v``, ``force``: ``(n_contacts, n_dir)``; ``stiffness`` and ``damping`` (the
+consistent tangents dF/du and dF/dv): ``(n_contacts, n_dir, n_dir)``; ``state``:
+``(n_contacts, n_state)``. Histories add a leading time axis ``(n_t, ...)``.
+"""
+
+from __future__ import annotations
+
+import abc
+from typing import NamedTuple
+
+import numpy as np
+
+from fricdamp.errors import ModelError
+
+
+class LawStep(NamedTuple):
+    """What one return-map step gives.
+
+    Attributes
+    ----------
+    force : ndarray, shape (n_contacts, n_dir)
+        Contact force [N] (or moment [N m] for rotational laws).
+    stiffness : ndarray, shape (n_contacts, n_dir, n_dir)
+        Consistent tangent dF/du [N/m] of the return map from the given state.
+    damping : ndarray or None, shape (n_contacts, n_dir, n_dir)
+        dF/dv [N s/m]; ``None`` when the law does not depend on the velocity.
+    state : ndarray, shape (n_contacts, n_state)
+        The state after the step (commit it only once the step has converged).
+    """
+
+    force: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray | None
+    state: np.ndarray
+
+
+class ContactLaw(abc.ABC):
+    """Base class of all contact laws (see the module docstring for the protocol).
+
+    Subclasses set ``n_dir``, ``n_state`` and ``n_contacts`` and implement
+    :meth:`initial_state`, :meth:`step` and :meth:`stored_energy`. They may override
+    :meth:`march` with a compiled kernel; the default marches :meth:`step` in Python.
+    """
+
+    n_dir: int = 1
+    n_state: int = 1
+    n_contacts: int = 1
+    #: True when the force depends on the velocity (step needs ``v``).
+    velocity_dependent: bool = False
+
+    @abc.abstractmethod
+    def initial_state(self) -> np.ndarray:
+        """Virgin state, shape (n_contacts, n_state)."""
+
+    @abc.abstractmethod
+    def step(self, state: np.ndarray, u: np.ndarray, v: np.ndarray | None = None) -> LawStep:
+        """Return map from ``state`` to the relative displacement ``u`` (and velocity ``v``)."""
+
+    @abc.abstractmethod
+    def stored_energy(self, state: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """Elastic energy [J] stored in each contact at (state, u), shape (n_contacts,).
+
+        ``state`` is the state *after* the step to ``u``. Used for energy balances:
+        dissipated energy = work done on the contact - change of stored energy.
+        """
+
+    # ------------------------------------------------------------------ histories
+    def march(self, u_history: np.ndarray, state: np.ndarray | None = None,
+              v_history: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Drive the law along a history; return (force history, final state).
+
+        Parameters
+        ----------
+        u_history : ndarray, shape (n_t, n_contacts, n_dir)
+            Relative displacements [m].
+        state : ndarray, shape (n_contacts, n_state), optional
+            Starting state; the virgin state if omitted.
+        v_history : ndarray, shape (n_t, n_contacts, n_dir), optional
+            Relative velocities [m/s], needed by velocity-dependent laws.
+
+        Returns
+        -------
+        force : ndarray, shape (n_t, n_contacts, n_dir)
+        state : ndarray, shape (n_contacts, n_state)
+        """
+        u_history = np.asarray(u_history, dtype=float)
+        st = self.initial_state() if state is None else np.array(state, dtype=float)
+        out = np.empty_like(u_history)
+        for i in range(u_history.shape[0]):
+            v = None if v_history is None else v_history[i]
+            res = self.step(st, u_history[i], v)
+            out[i] = res.force
+            st = res.state
+        return out, st
+
+    def drive(self, u_history, v_history=None, state=None) -> np.ndarray:
+        """Force history along a relative-displacement history, from the virgin state.
+
+        Accepts ``u_history`` of shape ``(n_t,)`` (one contact, one direction),
+        ``(n_t, n_contacts)`` (one direction) or ``(n_t, n_contacts, n_dir)``, and returns the
+        force with the same shape. This is the three-line way to a hysteresis loop::
+
+            u = 1e-5 * np.sin(np.linspace(0, 4 * np.pi, 400))
+            f = Jenkins(stiffness=1e6, slip_force=5.0).drive(u)
+            plt.plot(u, f)
+
+        If ``v_history`` is omitted for a velocity-dependent law, it is estimated from
+        ``u_history`` by finite differences with unit sample spacing, so pass it explicitly
+        whenever the velocity matters.
+        """
+        u = np.asarray(u_history, dtype=float)
+        shape = u.shape
+        u3 = self._as_history(u, "u_history")
+        v3 = None
+        if v_history is not None:
+            v3 = self._as_history(np.asarray(v_history, dtype=float), "v_history")
+            if v3.shape != u3.shape:
+                raise ModelError(
+                    f"v_history must have the shape of u_history {shape}, got {np.shape(v_history)}"
+                )
+        elif self.velocity_dependent:
+            v3 = np.gradient(u3, axis=0) if u3.shape[0] > 1 else np.zeros_like(u3)
+        f, _ = self.march(u3, state=state, v_history=v3)
+        return f.reshape(shape)
+
+    def _as_history(self, u: np.ndarray, name: str) -> np.ndarray:
+        nc, nd = self.n_contacts, self.n_dir
+        if u.ndim == 1 and nc == 1 and nd == 1:
+            return u.reshape(-1, 1, 1)
+        if u.ndim == 2 and nd == 1 and u.shape[1] == nc:
+            return u.reshape(u.shape[0], nc, 1)
+        if u.ndim == 2 and nc == 1 and u.shape[1] == nd:
+            return u.reshape(u.shape[0], 1, nd)
+        if u.ndim == 3 and u.shape[1:] == (nc, nd):
+            return u
+        raise ModelError(
+            f"{name} must have shape (n_t, {nc}, {nd}) for this {type(self).__name__} "
+            f"({nc} contact(s), {nd} direction(s)), got {u.shape}"
+        )
+
+    def _check_u(self, u: np.ndarray) -> np.ndarray:
+        u = np.asarray(u, dtype=float)
+        if u.shape != (self.n_contacts, self.n_dir):
+            u = u.reshape(self.n_contacts, self.n_dir)
+        return u
+
+
+def broadcast_parameter(name: str, value, n_contacts: int | None, *, unit: str,
+                        allow_zero: bool = False) -> np.ndarray:
+    """Per-contact parameter array, checked finite and positive, shape (n_contacts,)."""
+    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    if arr.ndim != 1:
+        raise ModelError(f"{name} must be a scalar or a 1-D array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ModelError(f"{name} must be finite, got {value!r}")
+    bad = arr < 0 if allow_zero else arr <= 0
+    if np.any(bad):
+        rng = ">= 0" if allow_zero else "> 0"
+        raise ModelError(f"{name} must be {rng} {unit}, got {value!r}")
+    if n_contacts is not None and arr.size not in (1, n_contacts):
+        raise ModelError(f"{name} must be a scalar or have {n_contacts} entries, got {arr.size}")
+    return arr
+
+
+def common_size(**params: np.ndarray) -> int:
+    """Number of contacts implied by per-contact parameter arrays (all sizes 1 or n)."""
+    sizes = {a.size for a in params.values() if a.size != 1}
+    if len(sizes) > 1:
+        desc = ", ".join(f"{k}: {v.size}" for k, v in params.items())
+        raise ModelError(f"per-contact parameters have inconsistent lengths ({desc})")
+    return sizes.pop() if sizes else 1

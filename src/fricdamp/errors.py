@@ -1,0 +1,63 @@
+"""Project exceptions and parameter checks.
+
+Every message names the parameter, the value received and the allowed range, so a user
+never has to read a traceback from deep inside numpy to find out what is wrong.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class FricdampError(Exception):
+    """Base class of every error raised on purpose by fricdamp."""
+
+
+class ModelError(FricdampError, ValueError):
+    """A model or parameter is invalid (negative mass, mu < 0, singular mass matrix, ...)."""
+
+
+class ConvergenceError(FricdampError, RuntimeError):
+    """A nonlinear solver did not converge; the message says where and what to try."""
+
+
+class CaseError(FricdampError, ValueError):
+    """A case file is invalid (typo'd key, wrong type, value out of range)."""
+
+
+def as_finite_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
+    """Return ``value`` as a float array, raising ModelError if it holds NaN or inf."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"{name} must be numeric, got {value!r}") from exc
+    if ndim is not None and arr.ndim != ndim:
+        raise ModelError(f"{name} must have {ndim} dimension(s), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ModelError(f"{name} must be finite (no NaN or inf), got {value!r}")
+    return arr
+
+
+def check_positive(name: str, value, *, unit: str = "", allow_zero: bool = False) -> np.ndarray:
+    """Check ``value`` (scalar or array) is finite and > 0 (>= 0 with ``allow_zero``)."""
+    arr = as_finite_array(name, value)
+    bad = arr < 0 if allow_zero else arr <= 0
+    if np.any(bad):
+        rng = ">= 0" if allow_zero else "> 0"
+        u = f" {unit}" if unit else ""
+        raise ModelError(f"{name} must be {rng}{u}, got {value!r}")
+    return arr
+
+
+def check_range(name: str, value, low: float, high: float, *, unit: str = "",
+                low_open: bool = False, high_open: bool = False) -> np.ndarray:
+    """Check ``low <= value <= high`` (with open ends if asked); raise ModelError otherwise."""
+    arr = as_finite_array(name, value)
+    lo_bad = arr <= low if low_open else arr < low
+    hi_bad = arr >= high if high_open else arr > high
+    if np.any(lo_bad | hi_bad):
+        lb = "(" if low_open else "["
+        hb = ")" if high_open else "]"
+        u = f" {unit}" if unit else ""
+        raise ModelError(f"{name} must lie in {lb}{low}, {high}{hb}{u}, got {value!r}")
+    return arr
