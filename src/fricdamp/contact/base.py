@@ -83,6 +83,16 @@ class ContactLaw(abc.ABC):
         dissipated energy = work done on the contact - change of stored energy.
         """
 
+    def dissipation(self, state_old: np.ndarray, state_new: np.ndarray,
+                    force_new: np.ndarray) -> np.ndarray | None:
+        """Energy [J] dissipated in each contact by a step, shape (n_contacts,), or None.
+
+        Laws that know their dissipation mechanism (slider displacement times friction force)
+        return it, so that energy balances check the solver instead of restating it; the
+        default ``None`` tells solvers to use work done minus change of stored energy.
+        """
+        return None
+
     # ------------------------------------------------------------------ histories
     def march(self, u_history: np.ndarray, state: np.ndarray | None = None,
               v_history: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:

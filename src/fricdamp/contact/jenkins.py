@@ -100,6 +100,11 @@ class Jenkins(ContactLaw):
         w = np.asarray(state, dtype=float)[:, 0]
         return 0.5 * self.stiffness * (u - w) ** 2
 
+    def dissipation(self, state_old, state_new, force_new) -> np.ndarray:
+        """Friction work ``f (w_new - w_old)`` [J]: exact for the return map (f = +-F_s in slip)."""
+        dw = np.asarray(state_new, float)[:, 0] - np.asarray(state_old, float)[:, 0]
+        return np.asarray(force_new, float).reshape(self.n_contacts) * dw
+
     def march(self, u_history, state=None, v_history=None):
         u = np.ascontiguousarray(np.asarray(u_history, dtype=float)[:, :, 0])
         w0 = (self.initial_state() if state is None else np.asarray(state, float))[:, 0]
