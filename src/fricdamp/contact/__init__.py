@@ -7,6 +7,17 @@ event-driven integration and the AFT step of harmonic balance.
 """
 
 from fricdamp.contact.base import ContactLaw, LawStep
+from fricdamp.contact.coulomb import Coulomb, ForceSet, coulomb_force_set, friction_coefficient
+from fricdamp.contact.element3d import Contact3D
 from fricdamp.contact.jenkins import Jenkins
 
-__all__ = ["ContactLaw", "LawStep", "Jenkins"]
+__all__ = [
+    "Contact3D",
+    "ContactLaw",
+    "Coulomb",
+    "ForceSet",
+    "Jenkins",
+    "LawStep",
+    "coulomb_force_set",
+    "friction_coefficient",
+]
