@@ -1,0 +1,330 @@
+"""Signal processing for measured and simulated records: FFT integration, CSV import.
+
+Paper 002 (section 3.4, Fig. 7, appendix B) builds its torque-rotation loops from three
+accelerometers: the kinematic relations (B.1)-(B.10) turn the tangential accelerations into
+``theta_1''``, ``theta_2''`` and ``x_1''``, and a Fourier transform / inverse transform
+integrates them twice into rotations and displacement. :func:`fft_integrate` is that
+integration step; the kinematic relations belong to the model of the test structure.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+from pathlib import Path
+
+import numpy as np
+
+from fricdamp.errors import ModelError, as_finite_array
+
+__all__ = ["SignalTable", "fft_integrate", "read_signals_csv"]
+
+
+def fft_integrate(x, dt: float, order: int = 1, *, f_low: float | None = None,
+                  axis: int = 0) -> np.ndarray:
+    """Integrate a sampled signal ``order`` times in the frequency domain (FFT / IFFT).
+
+    Each Fourier component ``X(f)`` (f > 0) is divided by ``(i 2 pi f)^order``; the mean
+    (f = 0) and every component below ``f_low`` are set to zero, so the result is the
+    zero-mean periodic part of the integral (constants and linear drifts of integration are
+    not recoverable from an acceleration and are dropped on purpose: sensor offsets would
+    otherwise grow into parabolic drifts). For an odd ``order`` and an even number of
+    samples the Nyquist component is dropped (its integral is zero at the samples).
+
+    The result is exact (to round-off) for a band-limited signal holding an integer number
+    of periods of each component: cut measured records to whole periods of the excitation
+    first (:func:`fricdamp.analysis.energy.steady_cycle`), otherwise leakage from the
+    discontinuity between the ends of the record spreads over the low frequencies, which
+    ``f_low`` then removes (the high-pass of the paper 002 algorithm, Fig. 7).
+
+    Parameters
+    ----------
+    x : array_like, shape (n, ...)
+        Uniformly sampled signal (e.g. acceleration [m/s^2] or [rad/s^2]), time along
+        ``axis``.
+    dt : float
+        Sampling interval [s], > 0.
+    order : {1, 2}, optional
+        1: acceleration -> velocity; 2: acceleration -> displacement. Default 1.
+    f_low : float, optional
+        High-pass cut-off [Hz]: components with ``f < f_low`` are removed; in [0, 1/(2 dt)).
+        Default None (only the mean is removed).
+    axis : int, optional
+        Time axis; default 0.
+
+    Returns
+    -------
+    ndarray, same shape as x
+        The integrated signal (velocity [m/s] or displacement [m] for an acceleration in
+        [m/s^2]), zero mean.
+
+    Raises
+    ------
+    ModelError
+        Non-finite x, fewer than 4 samples, dt <= 0, order not in {1, 2}, f_low out of range.
+
+    References
+    ----------
+    Paper 002, section 3.4 and Fig. 7 (FFT/IFFT integration of the accelerometer signals).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> dt = 1e-3
+    >>> t = dt * np.arange(1000)
+    >>> a = -(2 * np.pi * 5) ** 2 * np.sin(2 * np.pi * 5 * t)   # 5 Hz, 5 whole periods
+    >>> bool(np.allclose(fft_integrate(a, dt, order=2), np.sin(2 * np.pi * 5 * t)))
+    True
+    """
+    x = as_finite_array("x", x)
+    if x.ndim == 0:
+        raise ModelError("x must be an array of samples, got a scalar")
+    dt = float(as_finite_array("dt", dt))
+    if dt <= 0:
+        raise ModelError(f"dt must be > 0 s, got {dt!r}")
+    if order not in (1, 2):
+        raise ModelError(f"order must be 1 (velocity) or 2 (displacement), got {order!r}")
+    if int(axis) != axis or not -x.ndim <= axis < x.ndim:
+        raise ModelError(f"axis must be an integer in [{-x.ndim}, {x.ndim}) for x of shape "
+                         f"{x.shape}, got {axis!r}")
+    axis = int(axis) % x.ndim
+    n = x.shape[axis]
+    if n < 4:
+        raise ModelError(f"x needs at least 4 samples along axis {axis}, got {n}")
+    nyquist = 0.5 / dt
+    if f_low is not None:
+        f_low = float(as_finite_array("f_low", f_low))
+        if not 0.0 <= f_low < nyquist:
+            raise ModelError(f"f_low must lie in [0, {nyquist:g}) Hz (below Nyquist), got "
+                             f"{f_low!r}")
+    spec = np.fft.rfft(x, axis=axis)
+    freq = np.fft.rfftfreq(n, dt)
+    keep = freq > 0.0
+    if f_low is not None:
+        keep &= freq >= f_low
+    if order % 2 == 1 and n % 2 == 0:
+        keep[-1] = False
+    factor = np.zeros(freq.size, dtype=complex)
+    factor[keep] = (1.0 / (2j * np.pi * freq[keep])) ** order
+    shape = [1] * x.ndim
+    shape[axis] = freq.size
+    return np.fft.irfft(spec * factor.reshape(shape), n=n, axis=axis)
+
+
+# ---------------------------------------------------------------------------------------------
+# CSV
+# ---------------------------------------------------------------------------------------------
+
+class SignalTable(dict):
+    """Columns of a signal file: a ``dict`` name -> ndarray (n,), with units and source.
+
+    Always holds the key ``"time"`` (seconds). ``units`` maps each name to its unit string
+    ('' when the file gives none); ``path`` is the file read; ``time_column`` the name of the
+    column the time came from.
+    """
+
+    def __init__(self, data, *, units, path, time_column):
+        super().__init__(data)
+        self.units: dict[str, str] = dict(units)
+        self.path: str = str(path)
+        self.time_column: str = time_column
+
+
+_TIME_NAMES = {"time", "t", "zeit", "temps", "tiempo", "tempo", "times", "time_s", "t_s"}
+_TIME_SCALE = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "": 1.0,
+               "ms": 1e-3, "msec": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6, "ns": 1e-9,
+               "min": 60.0}
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+(?:[eE][+-]?\d+)?$")
+_UNIT_RE = re.compile(r"^\s*(.*?)\s*(?:\[([^\]]*)\]|\(([^)]*)\))\s*$")
+
+
+def _split_name_unit(header: str) -> tuple[str, str]:
+    m = _UNIT_RE.match(header)
+    if m and m.group(1):
+        return m.group(1).strip(), (m.group(2) if m.group(2) is not None else m.group(3)).strip()
+    return header.strip(), ""
+
+
+def _is_number(text: str, decimal: str) -> bool:
+    s = text.strip()
+    if decimal == ",":
+        s = s.replace(",", ".")
+    try:
+        float(s)
+    except ValueError:
+        return False
+    return True
+
+
+def _split(line: str, delimiter: str | None) -> list[str]:
+    if delimiter is None:
+        return line.split()
+    return next(csv.reader([line], delimiter=delimiter))
+
+
+def read_signals_csv(path, *, time_column: str | int | None = None,
+                     delimiter: str | None = None, decimal: str | None = None,
+                     skip_rows: int = 0, time_scale: float | None = None) -> SignalTable:
+    """Read a table of sampled signals (CSV, semicolon or tab separated, decimal comma).
+
+    Format: optional comment lines (``#``, ``%``, ``//``) and ``skip_rows`` metadata lines,
+    then a header row of column names, each optionally with a unit as ``name [unit]`` or
+    ``name (unit)``, then optionally a row of units (a row with no number in it), then the
+    numeric rows. The delimiter is detected (``;``, tab, ``,``, else white space) unless
+    given, and a decimal comma is detected when the delimiter is not a comma. An empty
+    trailing column (a delimiter at every line end) is ignored.
+
+    The time column is ``time_column`` (name or 0-based index), else the first column whose
+    name is a usual time name (time, t, zeit, temps, ...), else the first column. It is
+    returned under the key ``"time"`` in seconds: a unit of ms, us or min is converted
+    (``time_scale`` overrides), and it must be strictly increasing.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    time_column : str or int, optional
+        Time column name (without unit) or index.
+    delimiter : str, optional
+        Field delimiter; detected when omitted.
+    decimal : {".", ","}, optional
+        Decimal separator; detected when omitted.
+    skip_rows : int, optional
+        Raw lines to skip before looking for the header (metadata blocks); default 0.
+    time_scale : float, optional
+        Factor turning the time column into seconds (overrides its unit).
+
+    Returns
+    -------
+    SignalTable
+        dict name -> ndarray (n_samples,) with ``"time"`` [s] and every other column, plus
+        ``.units``, ``.path``, ``.time_column``.
+
+    Raises
+    ------
+    ModelError
+        Naming the file (and the column and line) when the file is missing or empty, a cell
+        is not a number, a row has the wrong number of fields, the time column is unknown or
+        not strictly increasing.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise ModelError(f"signal file {str(p)!r} does not exist")
+    raw = p.read_bytes()
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        text = raw.decode("latin-1")
+    if int(skip_rows) != skip_rows or skip_rows < 0:
+        raise ModelError(f"skip_rows must be an integer >= 0, got {skip_rows!r}")
+    lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines())]
+    lines = lines[int(skip_rows):]
+    lines = [(no, ln) for no, ln in lines
+             if ln.strip() and not ln.lstrip().startswith(("#", "%", "//"))]
+    if len(lines) < 2:
+        raise ModelError(f"{str(p)!r}: needs a header row and at least one row of numbers")
+    head_no, head = lines[0]
+    first = lines[1][1]
+
+    if delimiter is None:
+        for cand in (";", "\t", ","):
+            n_h = len(_split(head, cand))
+            if n_h > 1 and n_h in (len(_split(first, cand)), len(_split(first, cand)) - 1):
+                delimiter = cand
+                break
+        else:
+            delimiter = None if len(head.split()) > 1 else ","
+    if decimal is None:
+        decimal = "."
+        if delimiter != ",":
+            sample = [f.strip() for _, ln in lines[1:6] for f in _split(ln, delimiter)]
+            if any(_DECIMAL_COMMA.match(f) for f in sample):
+                decimal = ","
+    if decimal not in (".", ","):
+        raise ModelError(f"decimal must be '.' or ',', got {decimal!r}")
+    if decimal == delimiter:
+        raise ModelError(f"{str(p)!r}: decimal separator and delimiter are both {decimal!r}")
+
+    names_raw = [h.strip() for h in _split(head, delimiter)]
+    if names_raw and names_raw[-1] == "" and len(names_raw) > 1:
+        names_raw = names_raw[:-1]
+    ncol = len(names_raw)
+    parsed = [_split_name_unit(h) for h in names_raw]
+    names = [nm if nm else f"column_{j}" for j, (nm, _) in enumerate(parsed)]
+    units = [u for _, u in parsed]
+    if len(set(names)) != len(names):
+        dup = sorted({nm for nm in names if names.count(nm) > 1})
+        raise ModelError(f"{str(p)!r}: duplicate column name(s) {dup}")
+
+    body = lines[1:]
+    first_fields = [s.strip() for s in _split(body[0][1], delimiter)][:ncol]
+    if first_fields and not any(_is_number(s, decimal) for s in first_fields):
+        for j, u in enumerate(first_fields):  # a row of units
+            if u and not units[j]:
+                units[j] = u.strip("[]()")
+        body = body[1:]
+    if not body:
+        raise ModelError(f"{str(p)!r}: no rows of numbers after the header")
+
+    cells = []
+    for no, ln in body:
+        fields = [s.strip() for s in _split(ln, delimiter)]
+        if len(fields) == ncol + 1 and fields[-1] == "":
+            fields = fields[:-1]
+        if len(fields) != ncol:
+            raise ModelError(f"{str(p)!r}, line {no}: {len(fields)} fields, expected {ncol} "
+                             f"(columns {names}); delimiter {delimiter!r}")
+        cells.append(fields)
+    table = np.array(cells, dtype=object)
+    data: dict[str, np.ndarray] = {}
+    for j, name in enumerate(names):
+        col = table[:, j].astype(str)
+        if decimal == ",":
+            col = np.char.replace(col, ",", ".")
+        try:
+            values = col.astype(float)
+        except ValueError:
+            bad = next(i for i, s in enumerate(col) if not _is_number(s, "."))
+            raise ModelError(f"{str(p)!r}, line {body[bad][0]}, column {name!r}: "
+                             f"{table[bad, j]!r} is not a number") from None
+        if not np.all(np.isfinite(values)):
+            bad = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise ModelError(f"{str(p)!r}, line {body[bad][0]}, column {name!r}: "
+                             f"non-finite value {table[bad, j]!r}")
+        data[name] = values
+
+    if time_column is None:
+        tname = next((nm for nm in names if nm.lower() in _TIME_NAMES), names[0])
+    elif isinstance(time_column, (int, np.integer)):
+        if not 0 <= time_column < ncol:
+            raise ModelError(f"{str(p)!r}: time_column index {time_column} out of range "
+                             f"[0, {ncol})")
+        tname = names[int(time_column)]
+    else:
+        if time_column not in data:
+            raise ModelError(f"{str(p)!r}: no column named {time_column!r}; columns are "
+                             f"{names}")
+        tname = time_column
+    tunit = units[names.index(tname)]
+    if time_scale is None:
+        key = tunit.strip().lower()
+        if key not in _TIME_SCALE:
+            raise ModelError(f"{str(p)!r}: time column {tname!r} has unit {tunit!r}; known "
+                             f"units are s, ms, us, ns, min (or pass time_scale)")
+        time_scale = _TIME_SCALE[key]
+    time_scale = float(as_finite_array("time_scale", time_scale))
+    if time_scale <= 0:
+        raise ModelError(f"time_scale must be > 0, got {time_scale!r}")
+    tvals = data.pop(tname) * time_scale
+    dt = np.diff(tvals)
+    if np.any(dt <= 0):
+        i = int(np.flatnonzero(dt <= 0)[0])
+        raise ModelError(f"{str(p)!r}, column {tname!r}: time must be strictly increasing, "
+                         f"but line {body[i + 1][0]} has {tvals[i + 1]!r} after {tvals[i]!r}")
+    if "time" in data:
+        raise ModelError(f"{str(p)!r}: column 'time' is not the time column {tname!r}; "
+                         "rename it or pass time_column='time'")
+    out = {"time": tvals, **data}
+    unit_map = {"time": "s"}
+    unit_map.update({nm: units[j] for j, nm in enumerate(names) if nm != tname})
+    return SignalTable(out, units=unit_map, path=p, time_column=tname)
