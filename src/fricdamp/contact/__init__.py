@@ -10,8 +10,32 @@ from fricdamp.contact.base import ContactLaw, LawStep
 from fricdamp.contact.coulomb import Coulomb, ForceSet, coulomb_force_set, friction_coefficient
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.contact.jenkins import Jenkins
+from fricdamp.contact.mindlin import (
+    CattaneoMindlin,
+    RotationalMindlin,
+    effective_modulus,
+    hertz_radius,
+    shear_modulus,
+    tangential_compliance,
+)
+from fricdamp.contact.rough import (
+    GreenwoodWilliamson,
+    RoughRotationalJoint,
+    gw_integral,
+    height_classes,
+)
 
 __all__ = [
+    "CattaneoMindlin",
+    "GreenwoodWilliamson",
+    "RotationalMindlin",
+    "RoughRotationalJoint",
+    "effective_modulus",
+    "gw_integral",
+    "height_classes",
+    "hertz_radius",
+    "shear_modulus",
+    "tangential_compliance",
     "Contact3D",
     "ContactLaw",
     "Coulomb",
