@@ -8,6 +8,9 @@ from fricdamp.structure.beam3d import (
 )
 from fricdamp.structure.beam3d_rotation import RigidBodyTerms, rigid_body_terms
 from fricdamp.structure.builders import chain, from_matrices
+from fricdamp.structure.cyclic import CyclicSector, assemble_full, nodal_diameter_modes
+from fricdamp.structure.io import read_sector
+from fricdamp.structure.reduction import craig_bampton, craig_bampton_sector
 from fricdamp.structure.system import (
     ContactElement,
     HarmonicLoad,
@@ -17,6 +20,12 @@ from fricdamp.structure.system import (
 )
 
 __all__ = [
+    "CyclicSector",
+    "assemble_full",
+    "craig_bampton",
+    "craig_bampton_sector",
+    "nodal_diameter_modes",
+    "read_sector",
     "BeamModel",
     "BeamSection",
     "RigidBodyTerms",

@@ -1,8 +1,25 @@
-"""Import of structural matrices (Matrix Market; more formats register here)."""
+"""Import of structural matrices: Matrix Market files, ANSYS ``.full`` files, cyclic sectors.
+
+* :func:`read_matrix` — one matrix from an array, a sparse matrix or a Matrix Market path.
+* :func:`read_ansys_full` — mass and stiffness matrices and the (node, component) DOF
+  reference from an ANSYS ``.full`` file, through the maintained reader library
+  ``ansys-mapdl-reader`` (an optional dependency: it pulls VTK and PyVista, so it is not
+  installed with fricdamp; ``pip install ansys-mapdl-reader`` to use it).
+* :func:`read_sector` — a :class:`~fricdamp.structure.cyclic.CyclicSector` from a user's
+  sector matrices, with the left/right cut DOFs and the contact nodes named, so a real FE
+  model runs the same pipeline as the built-in models (cyclic modes, Craig–Bampton,
+  transients).
+
+FE programs often store only one triangle of a symmetric matrix (ANSYS ``.full`` files
+hold the upper one); a matrix with exactly one empty strict triangle is completed to the
+symmetric matrix on import (and says so in the log).
+"""
 
 from __future__ import annotations
 
+import logging
 import os
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -10,6 +27,11 @@ import scipy.io
 import scipy.sparse as sp
 
 from fricdamp.errors import ModelError
+
+log = logging.getLogger(__name__)
+
+#: Component labels of ANSYS DOF references (0-based component index).
+COMPONENT_LABELS = ("UX", "UY", "UZ", "ROTX", "ROTY", "ROTZ")
 
 
 def read_matrix(source, name: str = "matrix"):
@@ -25,3 +47,259 @@ def read_matrix(source, name: str = "matrix"):
                              f"{exc}") from exc
         return sp.csr_matrix(A) if sp.issparse(A) else np.asarray(A, float)
     return source
+
+
+def _complete_triangle(A, name: str):
+    """Symmetric matrix from one stored triangle; other matrices are returned unchanged."""
+    if A is None or A.shape[0] != A.shape[1]:
+        return A
+    if sp.issparse(A):
+        A = sp.csr_matrix(A, dtype=float)
+        lo, up = sp.tril(A, -1), sp.triu(A, 1)
+        n_lo, n_up = lo.count_nonzero(), up.count_nonzero()
+        if (n_lo == 0) != (n_up == 0):
+            log.info("%s: only one triangle stored; completed to a symmetric matrix", name)
+            return sp.csr_matrix(A + (up.T if n_lo == 0 else lo.T))
+        return A
+    A = np.asarray(A, float)
+    n_lo = np.count_nonzero(np.tril(A, -1))
+    n_up = np.count_nonzero(np.triu(A, 1))
+    if (n_lo == 0) != (n_up == 0):
+        log.info("%s: only one triangle stored; completed to a symmetric matrix", name)
+        return A + (np.triu(A, 1).T if n_lo == 0 else np.tril(A, -1).T)
+    return A
+
+
+def _import_mapdl_reader():
+    try:
+        from ansys.mapdl import reader
+    except ImportError as exc:
+        raise ModelError(
+            "reading ANSYS .full files needs the optional package ansys-mapdl-reader "
+            "(it brings VTK and PyVista): pip install ansys-mapdl-reader. Alternatively "
+            "export the matrices from ANSYS as Matrix Market files (APDL: *SMAT with "
+            "IMPORT,FULL, then *EXPORT with format MMF) and pass their paths as M= and K="
+        ) from exc
+    return reader
+
+
+def read_ansys_full(path) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
+    """Mass and stiffness matrices of an ANSYS ``.full`` file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The ``Jobname.full`` file (symmetric matrices, consistent mass).
+
+    Returns
+    -------
+    M, K : scipy.sparse.csr_matrix, shape (n, n)
+        Mass [kg] and stiffness [N/m] matrices in the file's units, symmetric, with the
+        constrained DOFs (empty rows) removed.
+    dof_reference : ndarray of int, shape (n, 2)
+        Node number and component (0 UX, 1 UY, 2 UZ, 3 ROTX, ...) of each DOF.
+
+    Raises
+    ------
+    ModelError
+        If the file is missing, ``ansys-mapdl-reader`` is not installed, or the file cannot
+        be read (lumped or unsymmetric matrices are not supported by the reader).
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise ModelError(f"full: file {str(p)!r} does not exist")
+    reader = _import_mapdl_reader()
+    try:
+        full = reader.read_binary(str(p))
+        dof_ref, k, m = full.load_km(as_sparse=True, sort=True)
+    except (NotImplementedError, OSError, ValueError, RuntimeError) as exc:
+        raise ModelError(f"full: cannot read {str(p)!r} with ansys-mapdl-reader: {exc}") from exc
+    if k is None or m is None:
+        raise ModelError(f"full: {str(p)!r} does not hold both a stiffness and a mass matrix")
+    K = _complete_triangle(sp.csr_matrix(k, dtype=float), "K (.full)")
+    M = _complete_triangle(sp.csr_matrix(m, dtype=float), "M (.full)")
+    dof_ref = np.asarray(dof_ref, dtype=np.int64).reshape(-1, 2)
+    active = (np.diff(K.indptr) > 0) | (np.diff(M.indptr) > 0)
+    if not np.all(active):
+        idx = np.flatnonzero(active)
+        K, M, dof_ref = K[idx][:, idx], M[idx][:, idx], dof_ref[idx]
+    return M, K, dof_ref
+
+
+def _index_list(name: str, value) -> np.ndarray | None:
+    """Integers from a sequence or a text file of integers."""
+    if value is None:
+        return None
+    if isinstance(value, (str, os.PathLike)):
+        p = Path(value)
+        if not p.is_file():
+            raise ModelError(f"{name}: file {str(p)!r} does not exist")
+        try:
+            arr = np.loadtxt(p, dtype=float, ndmin=1, comments=("#", "%")).reshape(-1)
+        except ValueError as exc:
+            raise ModelError(f"{name}: {str(p)!r} must hold integers only: {exc}") from exc
+    else:
+        arr = np.asarray(value, dtype=float).reshape(-1)
+    if not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
+        raise ModelError(f"{name} must hold integers, got {value!r}")
+    return arr.astype(np.int64)
+
+
+def _dof_reference(value, n: int) -> np.ndarray | None:
+    if value is None:
+        return None
+    if isinstance(value, (str, os.PathLike)):
+        p = Path(value)
+        if not p.is_file():
+            raise ModelError(f"dof_reference: file {str(p)!r} does not exist")
+        arr = np.loadtxt(p, dtype=float, ndmin=2, comments=("#", "%"))
+    else:
+        arr = np.asarray(value, dtype=float)
+    if arr.ndim != 2 or arr.shape != (n, 2) or np.any(arr != np.round(arr)):
+        raise ModelError(f"dof_reference must be an integer array of shape ({n}, 2) (node, "
+                         f"component per DOF), got shape {arr.shape}")
+    ref = arr.astype(np.int64)
+    if np.unique(ref, axis=0).shape[0] != n:
+        raise ModelError("dof_reference lists a (node, component) pair twice")
+    return ref
+
+
+def _node_dofs(name: str, nodes: np.ndarray, ref: np.ndarray) -> tuple[np.ndarray, list]:
+    """DOF indices of ``nodes`` (in node order, components ascending) and their components."""
+    dofs, comps = [], []
+    for node in nodes:
+        idx = np.flatnonzero(ref[:, 0] == node)
+        if idx.size == 0:
+            raise ModelError(f"{name}: node {int(node)} has no DOF in the model")
+        idx = idx[np.argsort(ref[idx, 1])]
+        dofs.extend(idx.tolist())
+        comps.append(tuple(ref[idx, 1].tolist()))
+    return np.asarray(dofs, dtype=np.int64), comps
+
+
+def read_sector(M=None, K=None, *, n_sectors: int, D=None, full=None, left_dofs=None,
+                right_dofs=None, left_nodes=None, right_nodes=None,
+                named_nodes: Mapping[str, Sequence[int]] | None = None,
+                named_dofs: Mapping[str, Sequence[int]] | None = None, dof_reference=None,
+                frame: str = "cylindrical", axis="z", name: str = "sector"):
+    """A cyclic sector from a user's FE matrices.
+
+    Parameters
+    ----------
+    M, K : path, array_like or sparse, shape (n, n)
+        Sector mass [kg] and stiffness [N/m] matrices: Matrix Market paths (``.mtx``,
+        symmetric or general storage; a single stored triangle is completed) or arrays.
+        Omit them when ``full`` is given.
+    n_sectors : int
+        Number of sectors of the wheel (003: 30).
+    D : path, array_like or sparse, optional
+        Sector damping matrix [N s/m].
+    full : path, optional
+        ANSYS ``.full`` file with the sector's M and K (needs ``ansys-mapdl-reader``); its
+        DOF reference lets cuts and contact nodes be given by node number.
+    left_dofs, right_dofs : sequence of int or path, optional
+        0-based DOF indices of the left and right cuts (``right_dofs[k]`` is the image of
+        ``left_dofs[k]`` on the next sector), or text files holding them.
+    left_nodes, right_nodes : sequence of int or path, optional
+        Node numbers of the cuts instead (needs a DOF reference); node ``left_nodes[k]``
+        pairs with ``right_nodes[k]`` and their DOFs are taken component by component.
+    named_nodes : mapping of str to sequence of int, optional
+        Named node groups (e.g. the contact nodes ``{"contact_A": [167179]}``), needs a DOF
+        reference; stored as DOF indices in ``CyclicSector.named_dofs``.
+    named_dofs : mapping of str to sequence of int, optional
+        Named groups given directly as DOF indices.
+    dof_reference : (n, 2) array_like or path, optional
+        Node number and component of each DOF for Matrix Market input (taken from the file
+        with ``full``).
+    frame, axis
+        DOF frames of the cuts (see :class:`~fricdamp.structure.cyclic.CyclicSector`).
+        ANSYS nodal frames rotated to a cylindrical system give ``"cylindrical"``; global
+        Cartesian DOFs give ``"cartesian"`` with ``axis`` the wheel axis.
+    name : str
+        Label.
+
+    Returns
+    -------
+    CyclicSector
+
+    Raises
+    ------
+    ModelError
+        Missing files, inconsistent sizes, DOFs out of range, nodes not in the model, or
+        ``.full`` input without ``ansys-mapdl-reader``.
+    """
+    from fricdamp.structure.cyclic import CyclicSector
+
+    if full is not None:
+        if M is not None or K is not None:
+            raise ModelError("give either full= (an ANSYS .full file) or M= and K=, not both")
+        M, K, ref = read_ansys_full(full)
+        if dof_reference is not None:
+            raise ModelError("dof_reference comes from the .full file; do not pass it too")
+    else:
+        if M is None or K is None:
+            raise ModelError("read_sector needs M= and K= (Matrix Market paths or arrays) or "
+                             "full= (an ANSYS .full file)")
+        M = _complete_triangle(read_matrix(M, "M"), "M")
+        K = _complete_triangle(read_matrix(K, "K"), "K")
+        ref = None
+    for nm, A in (("M", M), ("K", K)):
+        if getattr(A, "ndim", 2) != 2 or A.shape[0] != A.shape[1]:
+            raise ModelError(f"{nm} must be a square matrix, got shape {A.shape}")
+    n = M.shape[0]
+    if K.shape != (n, n):
+        raise ModelError(f"K must be {n} x {n} like M, got {K.shape}")
+    if D is not None:
+        D = _complete_triangle(read_matrix(D, "D"), "D")
+        if D.shape != (n, n):
+            raise ModelError(f"D must be {n} x {n} like M, got {D.shape}")
+    if ref is None:
+        ref = _dof_reference(dof_reference, n)
+
+    by_dofs = left_dofs is not None or right_dofs is not None
+    by_nodes = left_nodes is not None or right_nodes is not None
+    if by_dofs == by_nodes:
+        raise ModelError("give the cuts either as left_dofs= and right_dofs= or as "
+                         "left_nodes= and right_nodes=")
+    if by_dofs:
+        left = _index_list("left_dofs", left_dofs)
+        right = _index_list("right_dofs", right_dofs)
+        if left is None or right is None:
+            raise ModelError("give both left_dofs= and right_dofs=")
+    else:
+        if ref is None:
+            raise ModelError("left_nodes/right_nodes need a DOF reference (dof_reference= "
+                             "or an ANSYS .full file)")
+        ln = _index_list("left_nodes", left_nodes)
+        rn = _index_list("right_nodes", right_nodes)
+        if ln is None or rn is None or ln.size != rn.size:
+            raise ModelError("left_nodes and right_nodes must both be given, same length")
+        left, lc = _node_dofs("left_nodes", ln, ref)
+        right, rc = _node_dofs("right_nodes", rn, ref)
+        for a, b, ca, cb in zip(ln, rn, lc, rc, strict=True):
+            if ca != cb:
+                raise ModelError(f"left node {int(a)} has components {ca} but right node "
+                                 f"{int(b)} has {cb}; paired nodes need the same DOFs")
+            if frame == "cartesian" and ca not in ((0, 1, 2), (0, 1, 2, 3, 4, 5)):
+                raise ModelError(f"with frame='cartesian' each cut node needs the vector "
+                                 f"components UX, UY, UZ (and ROTX, ROTY, ROTZ); node "
+                                 f"{int(a)} has {ca}")
+    named: dict[str, np.ndarray] = {}
+    for key, nodes in dict(named_nodes or {}).items():
+        if ref is None:
+            raise ModelError("named_nodes need a DOF reference (dof_reference= or an ANSYS "
+                             ".full file); give named_dofs= with DOF indices otherwise")
+        named[str(key)] = _node_dofs(f"named_nodes[{key!r}]",
+                                     _index_list(f"named_nodes[{key!r}]", nodes), ref)[0]
+    for key, dofs in dict(named_dofs or {}).items():
+        if str(key) in named:
+            raise ModelError(f"name {key!r} is given both in named_nodes and named_dofs")
+        named[str(key)] = _index_list(f"named_dofs[{key!r}]", dofs)
+    dof_names = None
+    if ref is not None:
+        dof_names = tuple(
+            f"n{nd}.{COMPONENT_LABELS[c] if 0 <= c < len(COMPONENT_LABELS) else c}"
+            for nd, c in ref)
+    return CyclicSector(M=M, K=K, D=D, left=left, right=right, n_sectors=n_sectors,
+                        frame=frame, axis=axis, named_dofs=named, dof_names=dof_names,
+                        name=name)

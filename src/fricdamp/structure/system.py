@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from fricdamp.contact.base import ContactLaw
 from fricdamp.errors import ModelError
@@ -53,7 +54,6 @@ def _asymmetry(A: Matrix) -> float:
 def _check_mass(M: Matrix) -> None:
     if _asymmetry(M) > 1e-10:
         raise ModelError("mass matrix M must be symmetric (|M - M^T| / |M| <= 1e-10)")
-    n = M.shape[0]
     diag = M.diagonal()
     if np.any(diag <= 0):
         i = int(np.argmin(diag))
@@ -61,12 +61,26 @@ def _check_mass(M: Matrix) -> None:
             f"mass matrix M must be positive definite: diagonal entry {i} is {diag[i]:g} kg "
             "(every DOF needs mass > 0)"
         )
-    if n <= 3000:
-        Md = M.toarray() if sp.issparse(M) else M
+    from threadpoolctl import threadpool_limits
+
+    if sp.issparse(M):
+        # LU without row pivoting in symmetric mode: for a symmetric matrix the pivots are
+        # those of LDL^T, all > 0 iff M is positive definite.
         try:
-            np.linalg.cholesky(Md)
+            lu = spla.splu(sp.csc_matrix(M), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+            pivots = lu.U.diagonal()
+        except RuntimeError:
+            pivots = np.array([0.0])
+        if not np.all(pivots > 0):
+            raise ModelError("mass matrix M must be positive definite (it is singular or "
+                             f"indefinite: smallest pivot {pivots.min():.3g})")
+        return
+    with threadpool_limits(limits=1, user_api="blas"):
+        try:
+            np.linalg.cholesky(M)
         except np.linalg.LinAlgError:
-            lam = np.linalg.eigvalsh(Md)
+            lam = np.linalg.eigvalsh(M)
             raise ModelError(
                 "mass matrix M must be positive definite (it is singular or indefinite: "
                 f"smallest eigenvalue {lam[0]:.3g})"

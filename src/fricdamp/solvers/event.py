@@ -1,0 +1,533 @@
+"""Exact event-driven stick-slip integration ("patching", paper 000 section 2.4-2.5).
+
+The motion is split into smooth phases, in each of which every contact either sticks or
+slips in a known direction. Within a phase the equations of motion with Lagrange multipliers
+(000 (37)-(40), :mod:`fricdamp.solvers.event_switch`) are integrated exactly for linear
+systems (:class:`~fricdamp.solvers.event_system.CoulombSystem`: modal solution or matrix
+exponential, :mod:`fricdamp.solvers.event_exact`) or by DOP853 with dense output for a general
+:class:`~fricdamp.solvers.event_system.ConstrainedSystem` (:mod:`fricdamp.solvers.event_phase`).
+The phase ends at the first event (000 (45)-(46)):
+
+* a slipping contact's relative velocity reaches zero (000 (41));
+* a sticking contact's friction saturation ``mu_static |lambda_N| - |lambda_T|`` reaches zero
+  (000 (43));
+* a constrained normal force changes sign (reported: this solver keeps contacts closed).
+
+The event is located by Brent's method to round-off; the right end of the final bracket
+(where the event function is already non-positive) starts the next phase. Events of several
+contacts within round-off of each other are one event. The new configuration of all contacts
+with zero slip velocity is decided together by the friction complementarity problem
+(Lemke's method, :func:`~fricdamp.solvers.event_switch.solve_friction_lcp`), with a
+breakaway cascade for ``mu_static > mu_sliding`` (:func:`~fricdamp.solvers.event_switch.
+decide_modes`). Stick is kept whenever it is consistent.
+Entering stick, the velocity is projected (M-orthogonally) onto the stuck constraints; the
+kinetic-energy change of that round-off projection is reported in
+``EventResult.projection_energy``.
+
+Energy terms are integrated by 8-point Gauss-Legendre quadrature over sub-intervals of a
+quarter of the fastest period (exact phases) or over the DOP853 steps, so the energy balance
+``input = friction + viscous + change of kinetic + potential`` checks the solution itself.
+"""
+
+from __future__ import annotations
+
+import logging
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.solvers.event_exact import ExactPhase, LinearConfig
+from fricdamp.solvers.event_phase import (
+    EV_NORMAL,
+    EV_SLIP,
+    EV_STICK_NEG,
+    EV_STICK_POS,
+    NumericalPhase,
+)
+from fricdamp.solvers.event_switch import (
+    MODE_NAMES,
+    SLIP_NEG,
+    SLIP_POS,
+    STICK,
+    Evaluator,
+    LinearDecider,
+)
+from fricdamp.solvers.event_system import ConstrainedSystem, CoulombSystem, LinearForm
+
+log = logging.getLogger(__name__)
+
+_EPS = np.finfo(float).eps
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
+ENERGY_KEYS = ("input_work", "friction_dissipation", "viscous_dissipation", "kinetic",
+               "potential")
+
+
+@dataclass(frozen=True)
+class SwitchEvent:
+    """One mode change of one contact.
+
+    Attributes
+    ----------
+    time : float
+        Event time [s].
+    contact : int
+        Contact index.
+    from_mode, to_mode : str
+        ``"stick"``, ``"slip+"`` or ``"slip-"`` (kind ``"friction"``); ``"compression"`` or
+        ``"tension"`` (kind ``"normal"``: sign change of a constrained normal force).
+    kind : str
+        ``"friction"`` or ``"normal"``.
+    """
+
+    time: float
+    contact: int
+    from_mode: str
+    to_mode: str
+    kind: str = "friction"
+
+
+@dataclass(frozen=True)
+class EventResult:
+    """Stick-slip time history from :func:`simulate_events`.
+
+    Samples are the requested ``t_eval`` plus every phase start (event times); at an event
+    time the values are those *after* the switch (right limits).
+
+    Attributes
+    ----------
+    t : ndarray, shape (n_t,)
+        Sample times [s], non-decreasing.
+    q, qd : ndarray, shape (n_t, n_dof)
+        Generalised coordinates [m] and velocities [m/s].
+    lambda_N, lambda_T : ndarray, shape (n_t, n_contacts)
+        Normal and tangential contact forces [N] (``lambda_N`` < 0: tension, reported).
+    modes : ndarray of int8, shape (n_t, n_contacts)
+        0 stick, +1 slip with positive, -1 with negative relative velocity.
+    events : tuple of SwitchEvent
+        Every mode change, in time order.
+    energy : dict of ndarray, each (n_t,)
+        ``input_work``, ``friction_dissipation``, ``viscous_dissipation`` (cumulative from
+        ``t[0]``), ``kinetic`` and ``potential`` [J]. NaN where the system has no energy hook.
+    success, status, message
+        ``status`` 0 finished, 1 ``max_events`` reached, -1 failure (with ``throw=False``).
+    n_events, n_phases, n_decisions, n_configurations, n_rhs, n_expm, n_singular : int
+        Events located, smooth phases, switching decisions (complementarity problems),
+        distinct configurations, DOP853 right-hand sides, matrix exponentials (exact-phase
+        fallback), configurations with redundant constraints.
+    projection_energy : float
+        Sum of |kinetic energy change| [J] of the velocity projections at stick entries.
+    method : str
+        ``"exact"`` or ``"dop853"``.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    lambda_N: np.ndarray
+    lambda_T: np.ndarray
+    modes: np.ndarray
+    events: tuple[SwitchEvent, ...]
+    energy: dict[str, np.ndarray]
+    success: bool = True
+    status: int = 0
+    message: str = "finished"
+    n_events: int = 0
+    n_phases: int = 0
+    n_decisions: int = 0
+    n_configurations: int = 0
+    n_rhs: int = 0
+    n_expm: int = 0
+    n_singular: int = 0
+    projection_energy: float = 0.0
+    method: str = "exact"
+    runtime_s: float = 0.0
+    dof_names: tuple[str, ...] = ()
+    contact_names: tuple[str, ...] = ()
+    meta: dict = field(default_factory=dict, compare=False)
+
+    # ----------------------------------------------------------------- helpers
+    def event_times(self, contact: int | None = None, to_mode: str | None = None) -> np.ndarray:
+        """Times [s] of the mode changes, optionally of one contact and/or to one mode."""
+        return np.array([e.time for e in self.events if e.kind == "friction"
+                         and (contact is None or e.contact == contact)
+                         and (to_mode is None or e.to_mode == to_mode)])
+
+    @property
+    def energy_residual(self) -> np.ndarray:
+        """``input - friction - viscous - (dT + dV)`` [J], shape (n_t,)."""
+        e = self.energy
+        mech = e["kinetic"] + e["potential"]
+        return (e["input_work"] - e["friction_dissipation"] - e["viscous_dissipation"]
+                - (mech - mech[0]))
+
+    @property
+    def energy_balance_error(self) -> float:
+        """Largest |energy residual| relative to the largest energy term of the run."""
+        e = self.energy
+        scale = max(float(np.max(np.abs(e[k]))) for k in ENERGY_KEYS)
+        if scale == 0:
+            return 0.0
+        return float(np.max(np.abs(self.energy_residual)) / scale)
+
+    # ----------------------------------------------------------------- export
+    def to_xarray(self):
+        """``xarray.Dataset`` with dims time, dof, contact and event."""
+        import xarray as xr
+
+        ds = xr.Dataset(
+            {
+                "q": (("time", "dof"), self.q, {"units": "m", "long_name": "displacement"}),
+                "qd": (("time", "dof"), self.qd, {"units": "m/s", "long_name": "velocity"}),
+                "lambda_N": (("time", "contact"), self.lambda_N,
+                             {"units": "N", "long_name": "normal contact force"}),
+                "lambda_T": (("time", "contact"), self.lambda_T,
+                             {"units": "N", "long_name": "tangential contact force"}),
+                "mode": (("time", "contact"), self.modes,
+                         {"long_name": "contact mode (0 stick, +1/-1 slip direction)"}),
+                "event_time": (("event",), np.array([e.time for e in self.events]),
+                               {"units": "s"}),
+                "event_contact": (("event",), np.array([e.contact for e in self.events],
+                                                       dtype=int)),
+                "event_from": (("event",), np.array([e.from_mode for e in self.events],
+                                                    dtype=str)),
+                "event_to": (("event",), np.array([e.to_mode for e in self.events], dtype=str)),
+                "event_kind": (("event",), np.array([e.kind for e in self.events], dtype=str)),
+            },
+            coords={"time": ("time", self.t, {"units": "s"}), "dof": list(self.dof_names),
+                    "contact": list(self.contact_names)},
+            attrs={"method": self.method, "success": int(self.success), "status": self.status,
+                   "message": self.message, "n_events": self.n_events,
+                   "energy_balance_error": self.energy_balance_error},
+        )
+        for k in ENERGY_KEYS:
+            ds[f"energy_{k}"] = (("time",), self.energy[k], {"units": "J"})
+        return ds
+
+    def plot(self, dofs=None, axes=None):
+        """Displacements, friction forces and contact modes vs time; returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if axes is None:
+            _, axes = plt.subplots(3, 1, figsize=(7, 6), sharex=True)
+        idx = range(self.q.shape[1]) if dofs is None else dofs
+        for i in idx:
+            axes[0].plot(self.t, self.q[:, i], lw=1, label=self.dof_names[i])
+        axes[0].set_ylabel("q [m]")
+        for j, name in enumerate(self.contact_names):
+            axes[1].plot(self.t, self.lambda_T[:, j], lw=1, label=name)
+            axes[2].step(self.t, self.modes[:, j], where="post", lw=1, label=name)
+        axes[1].set_ylabel("friction force [N]")
+        axes[2].set_ylabel("mode")
+        axes[2].set_yticks([-1, 0, 1], ["slip-", "stick", "slip+"])
+        axes[2].set_xlabel("time [s]")
+        for ax in axes:
+            ax.grid(alpha=0.3)
+            ax.legend(loc="upper right", fontsize="small")
+        return axes
+
+
+# =====================================================================================
+def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
+                    method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
+                    max_events: int = 100_000, max_step: float = np.inf,
+                    throw: bool = True) -> EventResult:
+    """Integrate a stick-slip system exactly from event to event.
+
+    Parameters
+    ----------
+    system : ConstrainedSystem
+        E.g. a :class:`CoulombSystem` (linear structure, fixed normal loads).
+    t_span : (float, float)
+        Start and end time [s].
+    y0 : array_like, shape (2 n_dof,)
+        Initial ``[q, q']`` [m, m/s]. A contact whose slip velocity is zero starts in the mode
+        the switching decision gives (stick if the static friction can hold it).
+    t_eval : array_like, shape (n,), optional
+        Sample times [s] inside ``t_span`` (sorted); default 1001 uniform samples. Event times
+        are always added.
+    method : {"auto", "exact", "dop853"}
+        ``"exact"`` integrates each phase in closed form (systems with a
+        :meth:`~ConstrainedSystem.linear_form`); ``"dop853"`` uses the Runge-Kutta method of
+        order 8 with dense output; ``"auto"`` picks exact when possible.
+    rtol, atol : float
+        DOP853 tolerances (relative; absolute in the units of q and q'). Not used by exact
+        phases, whose only error is round-off.
+    max_events : int
+        Stop after this many events (status 1).
+    max_step : float
+        Largest DOP853 step [s]; it is also bounded by ``pi / (4 w)`` with
+        ``w = system.max_frequency()`` so that events of stuck phases are not stepped over.
+    throw : bool
+        Raise :class:`ConvergenceError` on failure or when ``max_events`` is reached (default);
+        with False return the history so far with ``success=False``.
+
+    Returns
+    -------
+    EventResult
+
+    Raises
+    ------
+    ModelError
+        Bad input (names the parameter).
+    ConvergenceError
+        No consistent configuration, chattering (Zeno) or too many events (``throw=True``).
+
+    References
+    ----------
+    Pfeiffer & Hajek (1992), paper 000, equations (29)-(46); den Hartog (1931).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fricdamp.structure.system import MechanicalSystem
+    >>> s = MechanicalSystem(M=[[1.0]], K=[[1.0]])
+    >>> cs = CoulombSystem(s, directions=[1.0], normal_load=0.1, mu_static=1.0)
+    >>> res = simulate_events(cs, (0.0, 20.0), [1.0, 0.0])   # free decay: 0.2 per half cycle
+    >>> np.round(res.q[res.t == res.event_times()[0], 0], 12)
+    array([-0.8])
+    """
+    wall = _time.perf_counter()
+    if not isinstance(system, ConstrainedSystem):
+        raise ModelError(f"system must be a ConstrainedSystem (e.g. CoulombSystem), got "
+                         f"{type(system).__name__}")
+    system.check()
+    span = as_finite_array("t_span", t_span)
+    if span.shape != (2,) or not span[1] > span[0]:
+        raise ModelError(f"t_span must be (t0, t1) with t1 > t0 [s], got {t_span!r}")
+    t0, t1 = float(span[0]), float(span[1])
+    n = int(system.n_dof)
+    y = as_finite_array("y0", y0)
+    if y.shape != (2 * n,):
+        raise ModelError(f"y0 must hold [q, q'] with 2 n_dof = {2 * n} entries, got {y.shape}")
+    if t_eval is None:
+        t_eval = np.linspace(t0, t1, 1001)
+    te = as_finite_array("t_eval", t_eval).ravel()
+    if np.any(np.diff(te) < 0):
+        raise ModelError("t_eval must be sorted in increasing order")
+    if te.size and (te[0] < t0 - 1e-12 * abs(t1 - t0) or te[-1] > t1 + 1e-12 * abs(t1 - t0)):
+        raise ModelError(f"t_eval must lie inside t_span [{t0}, {t1}] s")
+    if method not in ("auto", "exact", "dop853"):
+        raise ModelError(f"method must be 'auto', 'exact' or 'dop853', got {method!r}")
+    for name, v in (("rtol", rtol), ("atol", atol)):
+        if not (np.isfinite(v) and v > 0):
+            raise ModelError(f"{name} must be > 0, got {v!r}")
+    if int(max_events) < 0:
+        raise ModelError(f"max_events must be >= 0, got {max_events!r}")
+    lf = system.linear_form() if method in ("auto", "exact") else None
+    if method == "exact" and lf is None:
+        raise ModelError("method='exact' needs a system with a linear form (a CoulombSystem "
+                         "with harmonic loads only); use method='dop853'")
+    run = _Run(system, lf, t0, t1, te, rtol, atol, max_step)
+    status, message = 0, "finished"
+    try:
+        run.start(y[:n], y[n:])
+        status, message = run.loop(int(max_events))
+    except ConvergenceError as exc:
+        if throw:
+            raise
+        status, message = -1, str(exc)
+    if status == 1 and throw:
+        raise ConvergenceError(message)
+    res = run.result(status, message, _time.perf_counter() - wall)
+    if np.any(res.lambda_N[:, system.normal_constrained] < 0):
+        log.warning("a constrained normal force became negative (tension): the contact would "
+                    "separate, which this solver does not model")
+    return res
+
+
+class _Run:
+    """State of one simulate_events call."""
+
+    def __init__(self, system, lf: LinearForm | None, t0, t1, t_eval, rtol, atol, max_step):
+        self.system = system
+        self.ev = Evaluator(system)
+        self.lf = lf
+        self.decider = self.ev if lf is None else LinearDecider(lf, self.ev.mu_s, self.ev.mu_d)
+        self.t0, self.t1, self.t_eval = t0, t1, t_eval
+        w = float(system.max_frequency())
+        if w > 0:
+            max_step = min(max_step, np.pi / (4 * w))
+        self.rtol, self.atol, self.max_step = rtol, atol, max_step
+        self.nc = self.ev.nc
+        self.configs: dict[tuple, LinearConfig] = {}
+        self.out: list[tuple] = []
+        self.events: list[SwitchEvent] = []
+        self.acc = np.zeros(3)  # input, viscous, friction accumulated at phase start
+        self.n_events = self.n_phases = self.n_decisions = 0
+        self.n_rhs = self.n_expm = 0
+        self.proj_energy = 0.0
+
+    # ------------------------------------------------------------ start and decisions
+    def start(self, q, qd):
+        ev = self.ev
+        self.t = self.t0
+        self.sigma = np.ones(self.nc)
+        gam, vs = self.decider.tangent_velocity(self.t, q, qd)
+        cand = np.abs(gam) <= 1e3 * _EPS * vs
+        modes = np.where(cand, STICK, np.sign(gam)).astype(int)
+        if ev.constrained.any():
+            pt = ev.point(self.t, q, qd)
+            for _ in range(3):
+                _, lamN, _ = ev.solve(pt, modes, self.sigma)
+                flip = ev.constrained & (lamN[:, 0] * self.sigma < 0)
+                if not flip.any():
+                    break
+                self.sigma[flip] *= -1
+        if cand.any():
+            self.n_decisions += 1
+            modes = self.decider.decide_at(self.t, q, qd, modes, cand,
+                                           np.zeros(self.nc, dtype=int), self.sigma)
+        self.modes = modes
+        self.q, self.qd = np.array(q, float), np.array(qd, float)
+
+    def _phase(self):
+        key = tuple(int(m) for m in self.modes)
+        if self.lf is not None:
+            cfg = self.configs.get(key)
+            if cfg is None:
+                cfg = LinearConfig(self.lf, self.modes, self.ev.mu_s, self.ev.mu_d)
+                if len(self.configs) > 256:
+                    self.configs.clear()
+                self.configs[key] = cfg
+            return ExactPhase(cfg, self.t, self.q, self.qd)
+        self.configs.setdefault(key, None)
+        return NumericalPhase(self.ev, self.modes, self.sigma, self.t, self.q, self.qd,
+                              self.rtol, self.atol, self.max_step)
+
+    # ------------------------------------------------------------ main loop
+    def loop(self, max_events):
+        zeno = 0
+        while True:
+            self.q, self.qd, de = self.decider.project(self.t, self.q, self.qd, self.modes)
+            self.proj_energy += de
+            phase = self._phase()
+            self.n_phases += 1
+            with np.errstate(under="ignore"):
+                hit = phase.advance(self.t1)
+                t_stop = self.t1 if hit is None else hit.t
+                q_stop, qd_stop = self._record(phase, t_stop, last=hit is None)
+            self.n_rhs += getattr(phase, "n_rhs", 0)
+            self.n_expm += getattr(phase, "n_expm", 0)
+            if hit is None:
+                return 0, "finished"
+            if self.n_events >= max_events:
+                return 1, (f"max_events = {max_events} reached at t = {t_stop:.10g} s; raise "
+                           "max_events (or check for chattering)")
+            self.n_events += 1
+            zeno = zeno + 1 if t_stop <= phase.t0 else 0
+            if zeno > 50:
+                raise ConvergenceError(
+                    f"chattering at t = {t_stop:.17g} s: 50 switches without time advancing "
+                    "(Zeno behaviour or an inconsistent contact configuration)")
+            self.t, self.q, self.qd = t_stop, q_stop, qd_stop
+            self._switch(phase, hit)
+
+    def _switch(self, phase, hit):
+        nc = self.nc
+        kinds, contacts = phase.kinds[hit.fired], phase.contacts[hit.fired]
+        must = np.zeros(nc, dtype=int)
+        fired_slip = np.zeros(nc, dtype=bool)
+        for k, c in zip(kinds, contacts, strict=True):
+            if k == EV_STICK_POS:
+                must[c] = SLIP_NEG
+            elif k == EV_STICK_NEG:
+                must[c] = SLIP_POS
+            elif k == EV_SLIP:
+                fired_slip[c] = True
+            elif k == EV_NORMAL:
+                old = "compression" if self.sigma[c] > 0 else "tension"
+                self.sigma[c] *= -1
+                new = "compression" if self.sigma[c] > 0 else "tension"
+                self.events.append(SwitchEvent(float(self.t), int(c), old, new, "normal"))
+        gam, vs = self.decider.tangent_velocity(self.t, self.q, self.qd)
+        vs = np.maximum(vs, phase.vel_scale)
+        cand = (self.modes == STICK) | fired_slip | (np.abs(gam) <= 1e3 * _EPS * vs)
+        cand &= must == 0
+        self.n_decisions += 1
+        new = self.decider.decide_at(self.t, self.q, self.qd, self.modes, cand, must, self.sigma)
+        for c in np.flatnonzero(new != self.modes):
+            self.events.append(SwitchEvent(float(self.t), int(c), MODE_NAMES[int(self.modes[c])],
+                                           MODE_NAMES[int(new[c])]))
+        self.modes = new
+
+    # ------------------------------------------------------------ outputs and energy
+    def _record(self, phase, t_stop, last):
+        """Store the samples of a phase; return the state at its end."""
+        ts = phase.t0
+        if t_stop <= ts and not last:
+            return self.q, self.qd
+        te = self.t_eval
+        inside = te[np.searchsorted(te, ts, "right"):np.searchsorted(te, t_stop, "left")]
+        times = np.empty(inside.size + 2)
+        times[0] = ts
+        times[1:-1] = inside
+        times[-1] = t_stop
+        n_rec = times.size if (last and t_stop > ts) else times.size - 1
+        q, qd, lamN, lamT = phase.outputs(times)
+        cum = self._energy(phase, times)
+        e = self.acc[:, None] + cum[:, :n_rec]
+        self.acc = self.acc + cum[:, -1]
+        kin, pot = self._mech(q[:n_rec], qd[:n_rec])
+        modes = np.repeat(self.modes[None].astype(np.int8), n_rec, axis=0)
+        self.out.append((times[:n_rec], q[:n_rec], qd[:n_rec], lamN[:n_rec], lamT[:n_rec], modes,
+                         e[0], -e[2], e[1], kin, pot))
+        return q[-1], qd[-1]
+
+    def _energy(self, phase, times):
+        """Cumulative (input, viscous, friction) work from times[0] at ``times``, (3, n)."""
+        ts, t_stop = times[0], times[-1]
+        if t_stop <= ts:
+            return np.zeros((3, times.size))
+        if isinstance(phase, ExactPhase) and phase.cfg.eigen:
+            return phase.energy(times)
+        if isinstance(phase, ExactPhase):
+            h = phase.h
+            nsub = 1 if not np.isfinite(h) else int(np.ceil((t_stop - ts) / h))
+            bps = np.linspace(ts, t_stop, nsub + 1)
+        else:
+            bps = phase.breakpoints(t_stop)
+        bps = np.union1d(bps, times)
+        a, b = bps[:-1], bps[1:]
+        nodes = (0.5 * (b - a))[:, None] * (_GL_X + 1.0)[None] + a[:, None]
+        p = np.array(phase.powers(nodes.ravel())).reshape(3, a.size, _GL_X.size)
+        seg = np.einsum("kij,j->ki", p, _GL_W) * (0.5 * (b - a))[None]
+        cum = np.concatenate([np.zeros((3, 1)), np.cumsum(seg, axis=1)], axis=1)
+        return cum[:, np.searchsorted(bps, times)]
+
+    def _mech(self, q, qd):
+        if self.lf is not None:
+            kin = 0.5 * np.einsum("ti,ij,tj->t", qd, self.lf.M, qd)
+            pot = 0.5 * np.einsum("ti,ij,tj->t", q, self.lf.K, q)
+            return kin, pot
+        s = self.system
+        kin = np.array([0.5 * v @ np.asarray(s.mass(x), float) @ v
+                        for x, v in zip(q, qd, strict=True)])
+        pot = np.array([s.potential_energy(x) for x in q], dtype=float)
+        return kin, pot
+
+    def result(self, status, message, runtime):
+        s = self.system
+        n, nc = self.ev.n, self.nc
+        if self.out:
+            cols = [np.concatenate(c, axis=0) for c in zip(*self.out, strict=True)]
+        else:
+            cols = [np.zeros(0), np.zeros((0, n)), np.zeros((0, n)), np.zeros((0, nc)),
+                    np.zeros((0, nc)), np.zeros((0, nc), np.int8)] + [np.zeros(0)] * 5
+        t, q, qd, lamN, lamT, modes = cols[:6]
+        energy = dict(zip(ENERGY_KEYS, (cols[6], cols[7], cols[8], cols[9], cols[10]),
+                          strict=True))
+        return EventResult(
+            t=t, q=q, qd=qd, lambda_N=lamN, lambda_T=lamT, modes=modes,
+            events=tuple(self.events), energy=energy, success=status == 0, status=status,
+            message=message, n_events=self.n_events, n_phases=self.n_phases,
+            n_decisions=self.n_decisions, n_configurations=len(self.configs),
+            n_rhs=self.n_rhs, n_expm=self.n_expm, n_singular=self.ev.n_singular,
+            projection_energy=self.proj_energy,
+            method="exact" if self.lf is not None else "dop853", runtime_s=runtime,
+            dof_names=tuple(s.dof_names), contact_names=tuple(s.contact_names))
+
+
+__all__ = ["ConstrainedSystem", "CoulombSystem", "EventResult", "LinearForm", "SwitchEvent",
+           "simulate_events"]

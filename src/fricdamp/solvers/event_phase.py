@@ -1,0 +1,284 @@
+"""Smooth phases between switching events: shared event location and DOP853 phases.
+
+A phase object integrates one stick/slip configuration from its start ``t0`` and offers
+``advance(t_end) -> Hit | None`` (the first event), ``outputs(t)`` (q, q', lambda_N,
+lambda_T) and ``powers(t)`` (input, viscous and friction power). Exact phases of linear
+systems live in :mod:`fricdamp.solvers.event_exact`; :class:`NumericalPhase` integrates a
+general :class:`~fricdamp.solvers.event_system.ConstrainedSystem` with DOP853.
+
+Event location
+--------------
+Event functions are sampled on a grid of step ``pi / (4 w_max)`` (w_max the largest
+|eigenvalue| or load frequency, so that no function turns twice between samples) together with
+their exact derivatives; a sign change from positive to non-positive, or a sampled interval
+whose derivative changes sign with a non-positive minimum (a grazing dip), is refined by
+Brent's method to round-off. DOP853 phases test each step at its end and at three interior
+points of the dense output.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import DOP853
+from scipy.optimize import brentq
+
+from fricdamp.errors import ConvergenceError
+from fricdamp.solvers.event_switch import STICK
+
+_EPS = np.finfo(float).eps
+
+# event-function kinds
+EV_SLIP, EV_STICK_POS, EV_STICK_NEG, EV_NORMAL = 0, 1, 2, 3
+# EV_STICK_POS: reserve mu|N| - lambda_T reached 0 (lambda_T at +limit: slips in -)
+# EV_STICK_NEG: reserve mu|N| + lambda_T reached 0 (lambda_T at -limit: slips in +)
+
+
+@dataclass
+class Hit:
+    """An event found in a phase: right-bracket time and the fired event functions."""
+
+    t: float
+    fired: np.ndarray  # indices into the phase's event list
+    immediate: bool = False
+
+
+def event_list(modes, constrained):
+    """(kind, contact) of every event function of a configuration, as two int arrays."""
+    kinds, contacts = [], []
+    for i, m in enumerate(modes):
+        if m == STICK:
+            kinds += [EV_STICK_POS, EV_STICK_NEG]
+            contacts += [i, i]
+        else:
+            kinds.append(EV_SLIP)
+            contacts.append(i)
+        if constrained[i]:
+            kinds.append(EV_NORMAL)
+            contacts.append(i)
+    return np.array(kinds, dtype=int), np.array(contacts, dtype=int)
+
+
+def _refine(g, ta, tb, h_scale):
+    """Root of g in (ta, tb] with g(ta) > 0 >= g(tb) (as sampled); returns a t with g(t) <= 0
+    (the right end of the final bracket). If a re-evaluation disagrees with the samples in
+    the last bits (samples propagated by a matrix product), the sampled end is returned."""
+    xtol = 4 * _EPS * max(abs(ta), abs(tb), h_scale)
+    if tb - ta <= xtol:
+        return tb
+    fa, fb = g(ta), g(tb)
+    if fb > 0 or fa <= 0:
+        return tb if fb > 0 else ta
+    r = brentq(g, ta, tb, xtol=xtol, rtol=4 * _EPS, maxiter=200)
+    step = xtol
+    while r < tb and g(r) > 0:
+        r = min(tb, r + step)
+        step *= 2
+    return r
+
+
+def first_event(tt, G, gi, tol, first, GD=None, gdi=None):
+    """Earliest event among sampled event functions.
+
+    An event function fires when it falls below ``-tol`` (its round-off level): a function
+    that sits at zero (a contact that just switched, or a friction reserve that is
+    identically zero) does not fire, one that crosses zero does, located to round-off.
+
+    Parameters
+    ----------
+    tt : ndarray, shape (n_s,)
+        Sample times; ``tt[0]`` is the phase start when ``first``.
+    G : ndarray, shape (n_ev, n_s)
+        Event function samples.
+    gi : callable (i, t) -> float
+        Event function i at time t.
+    tol : ndarray, shape (n_ev,)
+        Round-off level of each function.
+    first : bool
+        True for the first samples of a phase: a function already below ``-tol`` at
+        ``tt[0]`` fires immediately.
+    GD, gdi : optional
+        Derivative samples and evaluator: an interval where the function stays above the
+        threshold at both ends but its derivative changes sign is searched for a dip
+        (grazing) below it.
+
+    Returns
+    -------
+    None, or ``(t, fired, immediate)``: the event time (right end of the final bracket of
+    the latest of the grouped roots) and the indices of the functions whose roots lie
+    within round-off of the earliest one, or ``(tt[0], indices, True)``.
+    """
+    Gs = G + tol[:, None]
+    if first:
+        imm = np.flatnonzero(Gs[:, 0] <= 0)
+        if imm.size:
+            return tt[0], imm, True
+    roots = np.full(G.shape[0], np.inf)
+    for j in range(tt.size - 1):
+        for i in range(G.shape[0]):
+            g = Gs[i]
+            if not g[j] > 0:
+                continue
+
+            def gs(t, i=i):
+                return gi(i, t) + tol[i]
+
+            if g[j + 1] <= 0:
+                roots[i] = _refine(gs, tt[j], tt[j + 1], tt[j + 1] - tt[j])
+            elif GD is not None and GD[i, j] < 0 and GD[i, j + 1] > 0:
+                tm = brentq(lambda t, i=i: gdi(i, t), tt[j], tt[j + 1],
+                            xtol=4 * _EPS * max(abs(tt[j]), tt[j + 1] - tt[j]), rtol=4 * _EPS)
+                if gs(tm) <= 0:
+                    roots[i] = _refine(gs, tt[j], tm, tt[j + 1] - tt[j])
+        if np.isfinite(roots).any():
+            best = roots.min()
+            group = roots <= best + 1e3 * _EPS * max(abs(best), tt[j + 1] - tt[j])
+            return float(roots[group].max()), np.flatnonzero(group), False
+    return None
+
+
+# =====================================================================================
+# DOP853 phases of a general ConstrainedSystem
+# =====================================================================================
+class NumericalPhase:
+    """One phase of a general system integrated by DOP853 with dense output."""
+
+    _interior = np.array([0.25, 0.5, 0.75, 1.0])
+
+    def __init__(self, ev, modes, sigma, t0, q0, qd0, rtol, atol, max_step):
+        self.ev = ev
+        self.modes = np.array(modes, dtype=int)
+        self.sigma = np.array(sigma, dtype=float)
+        self.t0 = float(t0)
+        self.n = ev.n
+        self.y0 = np.concatenate([q0, qd0])
+        self.kinds, self.contacts = event_list(self.modes, ev.constrained)
+        self.rtol, self.atol, self.max_step = rtol, atol, max_step
+        self.segments: list[tuple[float, float, object]] = []
+        self.n_rhs = 0
+        self.vel_scale = np.zeros(ev.nc)
+        self.h = np.inf
+        mus = ev.mu_s
+        self._lim = mus[self.contacts]
+        self._sgn = np.where(self.modes[self.contacts] == STICK, 0,
+                             self.modes[self.contacts]).astype(float)
+
+    def _solve(self, t, y):
+        n = self.n
+        pt = self.ev.point(t, y[:n], y[n:])
+        qdd, lamN, lamT = self.ev.solve(pt, self.modes, self.sigma)
+        return pt, qdd[:, 0], lamN[:, 0], lamT[:, 0]
+
+    def _rhs(self, t, y):
+        self.n_rhs += 1
+        _, qdd, _, _ = self._solve(t, y)
+        return np.concatenate([y[self.n:], qdd])
+
+    def _g(self, t, y):
+        pt, _, lamN, lamT = self._solve(t, y)
+        gam = pt.WT.T @ pt.qd
+        self.vel_scale = np.maximum(self.vel_scale, np.abs(pt.WT).T @ np.abs(pt.qd))
+        c = self.contacts
+        absN = np.where(self.ev.constrained[c], self.sigma[c] * lamN[c], np.abs(lamN[c]))
+        g = np.empty(c.size)
+        k = self.kinds
+        g[k == EV_SLIP] = (self._sgn * gam[c])[k == EV_SLIP]
+        res = self._lim * absN
+        g[k == EV_STICK_POS] = (res - lamT[c])[k == EV_STICK_POS]
+        g[k == EV_STICK_NEG] = (res + lamT[c])[k == EV_STICK_NEG]
+        g[k == EV_NORMAL] = (self.sigma[c] * lamN[c])[k == EV_NORMAL]
+        scale = np.where(k == EV_SLIP, np.abs(pt.WT[:, c]).T @ np.abs(pt.qd),
+                         np.abs(res) + np.abs(lamT[c]) + np.abs(lamN[c]))
+        return g, scale
+
+    def y(self, t):
+        """State at times t (n_t,) from the dense output, shape (2 n, n_t)."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.empty((2 * self.n, t.size))
+        starts = np.array([s[0] for s in self.segments])
+        idx = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.segments) - 1)
+        for j in np.unique(idx):
+            sel = idx == j
+            out[:, sel] = self.segments[j][2](t[sel])
+        at0 = t <= self.t0
+        out[:, at0] = self.y0[:, None]
+        return out
+
+    def advance(self, t_end) -> Hit | None:
+        if t_end <= self.t0:
+            return None
+        if self.kinds.size == 0:
+            return self._integrate_to(t_end)
+        g0, sc0 = self._g(self.t0, self.y0)
+        self._scale = sc0
+        solver = DOP853(self._rhs, self.t0, self.y0, t_end, rtol=self.rtol, atol=self.atol,
+                        max_step=self.max_step)
+        g_prev, t_prev = g0, self.t0
+        first = True
+        while solver.status == "running":
+            msg = solver.step()
+            if solver.status == "failed":
+                raise ConvergenceError(f"DOP853 failed at t = {solver.t:.6g} s: {msg}; loosen "
+                                       "rtol/atol or check the system for a singular mass")
+            interp = solver.dense_output()
+            ta, tb = solver.t_old, solver.t
+            self.segments.append((ta, tb, interp))
+            ts = ta + (tb - ta) * self._interior
+            cols = [self._g(t, interp(t)) for t in ts]
+            G = np.column_stack([g_prev] + [g for g, _ in cols])
+            for _, sc in cols:
+                self._scale = np.maximum(self._scale, sc)
+            tt = np.concatenate([[t_prev], ts])
+            found = first_event(tt, G, lambda i, t, f=interp: self._g(t, f(t))[0][i],
+                                1e2 * _EPS * self._scale + np.finfo(float).tiny, first)
+            first = False
+            if found is not None:
+                return Hit(found[0], found[1], immediate=found[2])
+            g_prev, t_prev = G[:, -1], tb
+        return None
+
+    def _integrate_to(self, t_end):
+        solver = DOP853(self._rhs, self.t0, self.y0, t_end, rtol=self.rtol, atol=self.atol,
+                        max_step=self.max_step)
+        while solver.status == "running":
+            msg = solver.step()
+            if solver.status == "failed":
+                raise ConvergenceError(f"DOP853 failed at t = {solver.t:.6g} s: {msg}")
+            self.segments.append((solver.t_old, solver.t, solver.dense_output()))
+        return None
+
+    def outputs(self, t):
+        Y = self.y(t)
+        n = self.n
+        nt = Y.shape[1]
+        nc = self.ev.nc
+        lamN = np.empty((nt, nc))
+        lamT = np.empty((nt, nc))
+        for j in range(nt):
+            _, _, lamN[j], lamT[j] = self._solve(float(np.atleast_1d(t)[j]), Y[:, j])
+        return Y[:n].T, Y[n:].T, lamN, lamT
+
+    def powers(self, t):
+        t = np.atleast_1d(t)
+        Y = self.y(t)
+        n = self.n
+        s = self.ev.system
+        p_in = np.empty(t.size)
+        p_visc = np.empty(t.size)
+        p_fric = np.empty(t.size)
+        for j, tj in enumerate(t):
+            q, qd = Y[:n, j], Y[n:, j]
+            pt, _, _, lamT = self._solve(float(tj), Y[:, j])
+            p_in[j] = s.input_power(float(tj), q, qd)
+            p_visc[j] = s.viscous_power(float(tj), q, qd)
+            p_fric[j] = float(lamT @ (pt.WT.T @ qd))
+        return p_in, p_visc, p_fric
+
+    def breakpoints(self, t_stop):
+        b = [s[0] for s in self.segments if s[0] < t_stop]
+        return np.array(b + [t_stop])
+
+
+__all__ = ["EV_NORMAL", "EV_SLIP", "EV_STICK_NEG", "EV_STICK_POS", "Hit", "NumericalPhase",
+           "event_list", "first_event"]
