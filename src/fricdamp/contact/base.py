@@ -53,6 +53,34 @@ class LawStep(NamedTuple):
     state: np.ndarray
 
 
+class PeriodicResponse(NamedTuple):
+    """Steady periodic response of a law to one period of relative displacement samples.
+
+    Attributes
+    ----------
+    force : ndarray, shape (n_t, n_contacts, n_dir)
+        Force samples [N] over the periodic period (the last period marched).
+    jacobian : ndarray or None, shape (n_t, n_contacts, n_dir, n_dir, n_basis)
+        ``jacobian[i, c, d, e, j]`` = d force[i, c, d] / d x[c, e, j], the exact (or finite
+        difference) derivative of the periodic force with respect to the coefficients x of
+        the displacement history ``u[:, c, e] = basis @ x[c, e, :]`` (and, for velocity
+        dependent laws, ``v[:, c, e] = velocity_basis @ x[c, e, :]``). ``None`` when no
+        basis was given.
+    state : ndarray, shape (n_contacts, n_state)
+        State at the start (= end) of the periodic period.
+    periods : int
+        Number of periods marched (the largest over the contacts).
+    converged : bool
+        True when every contact's state repeated within the tolerance.
+    """
+
+    force: np.ndarray
+    jacobian: np.ndarray | None
+    state: np.ndarray
+    periods: int
+    converged: bool
+
+
 class ContactLaw(abc.ABC):
     """Base class of all contact laws (see the module docstring for the protocol).
 
@@ -121,6 +149,114 @@ class ContactLaw(abc.ABC):
             out[i] = res.force
             st = res.state
         return out, st
+
+    def periodic_response(self, u: np.ndarray, v: np.ndarray | None = None, *,
+                          basis: np.ndarray | None = None,
+                          velocity_basis: np.ndarray | None = None,
+                          state: np.ndarray | None = None, max_periods: int = 50,
+                          tol: float = 1e-10) -> PeriodicResponse:
+        """Periodic force along a periodic displacement history (the AFT time march).
+
+        The law is marched over the period, again and again, starting from ``state`` (the
+        virgin state by default), until its state at the end of a period equals the state
+        at its start: the forces of that last period are the steady periodic forces. This
+        generic version marches :meth:`march` and differentiates by forward finite
+        differences (one march per basis function and direction, all contacts perturbed at
+        once since contacts are independent); laws with a known exact sensitivity override
+        it (see :class:`fricdamp.contact.jenkins.Jenkins`).
+
+        Parameters
+        ----------
+        u : ndarray, shape (n_t, n_contacts, n_dir)
+            Relative displacement samples [m] over one period, equally spaced in time,
+            without repeating the first sample at the end.
+        v : ndarray, shape (n_t, n_contacts, n_dir), optional
+            Relative velocities [m/s]; required by velocity-dependent laws.
+        basis : ndarray, shape (n_t, n_basis), optional
+            If given, the Jacobian with respect to coefficients ``x`` of
+            ``u[:, c, e] = basis @ x[c, e, :]`` is returned too (for harmonic balance the
+            basis holds 1, cos k tau, sin k tau sampled at the time samples).
+        velocity_basis : ndarray, shape (n_t, n_basis), optional
+            ``v[:, c, e] = velocity_basis @ x[c, e, :]`` (Omega times the tau-derivative of
+            ``basis``); needed for the Jacobian of velocity-dependent laws.
+        state : ndarray, shape (n_contacts, n_state), optional
+            State at the start of the first period (the virgin state by default). The
+            result is a deterministic function of (u, v, state), as Newton needs.
+        max_periods : int
+            Largest number of periods marched before giving up (``converged=False``).
+        tol : float
+            Periodicity test: ``max |state_end - state_start| <= tol * scale`` with
+            ``scale`` the largest magnitude of the state.
+
+        Returns
+        -------
+        PeriodicResponse
+        """
+        u = self._as_history(np.asarray(u, dtype=float), "u")
+        v = None if v is None else self._as_history(np.asarray(v, dtype=float), "v")
+        if self.velocity_dependent and v is None:
+            raise ModelError(f"{type(self).__name__} is velocity dependent: pass v (the "
+                             "relative velocity samples) to periodic_response")
+        st0 = self.initial_state() if state is None else np.array(state, dtype=float)
+        f, st, periods, conv = self._march_to_periodic(u, v, st0, max_periods, tol)
+        jac = None
+        if basis is not None:
+            basis = np.asarray(basis, dtype=float)
+            if basis.ndim != 2 or basis.shape[0] != u.shape[0]:
+                raise ModelError(f"basis must have shape (n_t={u.shape[0]}, n_basis), got "
+                                 f"{basis.shape}")
+            vb = None
+            if v is not None and velocity_basis is not None:
+                vb = np.asarray(velocity_basis, dtype=float)
+            jac = self._fd_periodic_jacobian(u, v, basis, vb, f, st0, periods)
+        return PeriodicResponse(f, jac, st, periods, conv)
+
+    def _march_to_periodic(self, u, v, st0, max_periods, tol):
+        st = st0
+        for p in range(1, max(int(max_periods), 1) + 1):
+            f, st_end = self.march(u, state=st, v_history=v)
+            scale = max(float(np.max(np.abs(st_end), initial=0.0)),
+                        float(np.max(np.abs(st), initial=0.0)))
+            if np.max(np.abs(st_end - st), initial=0.0) <= tol * scale:
+                return f, st, p, True
+            st = st_end
+        return f, st, int(max_periods), False
+
+    def _march_periods(self, u, v, st0, n_periods):
+        """Forces of the last of exactly ``n_periods`` marches from ``st0``."""
+        st = st0
+        for _ in range(n_periods):
+            f, st = self.march(u, state=st, v_history=v)
+        return f
+
+    def _fd_periodic_jacobian(self, u, v, basis, vb, f0, st0, n_periods):
+        """Forward finite differences of the periodic force, all contacts at once.
+
+        Each perturbed history is marched from the same start state for exactly as many
+        periods as the unperturbed one took to become periodic: the difference quotient is
+        then that of one smooth map (a varying period count would add the periodicity
+        tolerance divided by the step to it). For laws that become periodic in finitely
+        many periods (Jenkins, Masing laws in gross slip) this is the derivative of the
+        periodic force; for laws that only approach periodicity (2D friction on an
+        elliptic orbit) it converges with the march.
+        """
+        n_t, nc, nd = u.shape
+        m = basis.shape[1]
+        umax = np.max(np.abs(u), axis=(0, 2))  # (nc,)
+        floor = max(float(umax.max(initial=0.0)) * 1e-3, 1e-12)
+        h = np.sqrt(np.finfo(float).eps) * np.maximum(umax, floor)  # (nc,)
+        jac = np.zeros((n_t, nc, nd, nd, m))
+        for e in range(nd):
+            for j in range(m):
+                up = u.copy()
+                up[:, :, e] += basis[:, j, None] * h[None, :]
+                vp = v
+                if v is not None and vb is not None:
+                    vp = v.copy()
+                    vp[:, :, e] += vb[:, j, None] * h[None, :]
+                fp = self._march_periods(up, vp, st0, n_periods)
+                jac[:, :, :, e, j] = (fp - f0) / h[None, :, None]
+        return jac
 
     def drive(self, u_history, v_history=None, state=None) -> np.ndarray:
         """Force history along a relative-displacement history, from the virgin state.

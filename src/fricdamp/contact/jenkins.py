@@ -14,7 +14,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from fricdamp.contact.base import ContactLaw, LawStep, broadcast_parameter, common_size
+from fricdamp.contact.base import (
+    ContactLaw,
+    LawStep,
+    PeriodicResponse,
+    broadcast_parameter,
+    common_size,
+)
+from fricdamp.errors import ModelError
 
 
 @njit(cache=True, nogil=True)
@@ -36,6 +43,77 @@ def jenkins_march_kernel(u, kt, fs, w0, f_out):  # pragma: no cover - compiled
                 w[j] = u[i, j] + fs[j] / kt[j]
             f_out[i, j] = f
     return w
+
+
+@njit(cache=True, nogil=True)
+def jenkins_periodic_kernel(u, kt, fs, w0, max_periods, f_out, anchor_out):  # pragma: no cover
+    """March Jenkins elements over a periodic history until the slider state repeats.
+
+    u: (n_t, n_c) one period of samples; kt, fs, w0: (n_c,). Writes the periodic forces
+    into f_out (n_t, n_c) and into anchor_out (n_t, n_c) the sensitivity pattern of each
+    sample: -1 if the sample slips (df = 0), -2 if the contact never slipped from w0
+    (f = k_t (u - w0)), else the index s of the last slip sample, possibly from an earlier
+    period (f = f_s + k_t (u - u_s) with f_s = +-F_s). Returns the periodic start state
+    (n_c,) and the number of periods marched per contact (n_c,), negative if the state did
+    not repeat within max_periods.
+    """
+    nt, nc = u.shape
+    w_start = np.empty(nc)
+    periods = np.empty(nc, dtype=np.int64)
+    for j in range(nc):
+        w = w0[j]
+        last = -2
+        k = kt[j]
+        lim = fs[j]
+        periods[j] = -max_periods
+        for p in range(max_periods):
+            w_begin = w
+            for i in range(nt):
+                f = k * (u[i, j] - w)
+                if lim <= 0.0:
+                    f = 0.0
+                    w = u[i, j]
+                    last = i
+                    anchor_out[i, j] = -1
+                elif f > lim:
+                    f = lim
+                    w = u[i, j] - lim / k
+                    last = i
+                    anchor_out[i, j] = -1
+                elif f < -lim:
+                    f = -lim
+                    w = u[i, j] + lim / k
+                    last = i
+                    anchor_out[i, j] = -1
+                else:
+                    anchor_out[i, j] = last
+                f_out[i, j] = f
+            if w == w_begin:
+                periods[j] = p + 1
+                w_start[j] = w_begin
+                break
+        else:
+            w_start[j] = w
+    return w_start, periods
+
+
+@njit(cache=True, nogil=True)
+def jenkins_periodic_jacobian(anchor, kt, basis, jac):  # pragma: no cover - compiled
+    """jac[i, c, :] = d f[i, c] / d x[c, :] from the anchors of jenkins_periodic_kernel."""
+    nt, nc = anchor.shape
+    m = basis.shape[1]
+    for i in range(nt):
+        for c in range(nc):
+            s = anchor[i, c]
+            if s == -1:
+                for j in range(m):
+                    jac[i, c, j] = 0.0
+            elif s == -2:
+                for j in range(m):
+                    jac[i, c, j] = kt[c] * basis[i, j]
+            else:
+                for j in range(m):
+                    jac[i, c, j] = kt[c] * (basis[i, j] - basis[s, j])
 
 
 class Jenkins(ContactLaw):
@@ -112,3 +190,34 @@ class Jenkins(ContactLaw):
         w = jenkins_march_kernel(u, self.stiffness, self.slip_force,
                                  np.ascontiguousarray(w0, dtype=float), f)
         return f[:, :, None], w[:, None]
+
+    def periodic_response(self, u, v=None, *, basis=None, velocity_basis=None, state=None,
+                          max_periods: int = 50, tol: float = 1e-10) -> PeriodicResponse:
+        """Periodic Jenkins force with its exact sensitivity (compiled, all contacts at once).
+
+        After the last slip sample s the element sticks, ``f_k = f_s + k_t (u_k - u_s)``
+        with ``f_s = +-F_s`` independent of u, so ``df_k/dx = k_t (basis[k] - basis[s])``;
+        in slip ``df_k = 0``; a contact that never slipped from its start state w0 has
+        ``f_k = k_t (u_k - w0)``. The slider state of a Jenkins element repeats exactly
+        (bit for bit) once it is periodic, which takes at most three periods, so ``tol`` is
+        not needed. See :meth:`ContactLaw.periodic_response` for the parameters.
+        """
+        u3 = self._as_history(np.asarray(u, dtype=float), "u")
+        uu = np.ascontiguousarray(u3[:, :, 0])
+        w0 = (self.initial_state() if state is None else np.asarray(state, float))[:, 0]
+        nt, nc = uu.shape
+        f = np.empty((nt, nc))
+        anchor = np.empty((nt, nc), dtype=np.int64)
+        w, periods = jenkins_periodic_kernel(uu, self.stiffness, self.slip_force,
+                                             np.ascontiguousarray(w0, dtype=float),
+                                             max(int(max_periods), 1), f, anchor)
+        jac = None
+        if basis is not None:
+            B = np.asarray(basis, dtype=float)
+            if B.ndim != 2 or B.shape[0] != nt:
+                raise ModelError(f"basis must have shape (n_t={nt}, n_basis), got {B.shape}")
+            jac = np.empty((nt, nc, B.shape[1]))
+            jenkins_periodic_jacobian(anchor, self.stiffness, np.ascontiguousarray(B), jac)
+            jac = jac[:, :, None, None, :]
+        return PeriodicResponse(f[:, :, None], jac, w[:, None], int(np.max(np.abs(periods))),
+                                bool(np.all(periods > 0)))

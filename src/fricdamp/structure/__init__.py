@@ -1,5 +1,6 @@
 """Structural models: MechanicalSystem, contact elements, loads, builders and matrix import."""
 
+from fricdamp.structure.beam import cantilever_beam, euler_bernoulli_matrices, node_dof
 from fricdamp.structure.beam3d import (
     BeamModel,
     BeamSection,
@@ -20,6 +21,9 @@ from fricdamp.structure.system import (
 )
 
 __all__ = [
+    "cantilever_beam",
+    "euler_bernoulli_matrices",
+    "node_dof",
     "CyclicSector",
     "assemble_full",
     "craig_bampton",
