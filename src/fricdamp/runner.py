@@ -584,6 +584,7 @@ register_contact("contact3d", Contact3DContact, _build_contact3d,
 
 # ================================================================================ built-ins
 # The built-in analyses register themselves on import (they need the registry above).
+from fricdamp.analyses import frequency as _frequency  # noqa: E402,F401
 from fricdamp.analyses.timedomain import (  # noqa: E402
     coulomb_loop_energy,
     jenkins_loop_energy,

@@ -1,0 +1,221 @@
+"""Frequency-domain analyses of a case: ``[analysis.frf]`` (harmonic balance through resonance
+by arclength continuation) and ``[analysis.nma]`` (nonlinear modal analysis), plus the
+``[model] type = "cantilever_beam"`` model they are shown on.
+
+Summary contract (issue 4): ``frf: {"omega_rad_s", "amplitude_m", "dissipated_energy_J", ...}``
+and ``nma: {"amplitude", "frequency_hz", "damping_ratio", ...}``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from fricdamp.analyses.timedomain import _check_dof, _check_vector
+from fricdamp.case import NonNegative, Positive, Section
+from fricdamp.errors import ConvergenceError
+from fricdamp.runner import (
+    AnalysisOutput,
+    BuildContext,
+    RunContext,
+    register_analysis,
+    register_model,
+)
+
+
+# ------------------------------------------------------------------------------- model
+class CantileverBeamModel(Section):
+    """``[model] type = "cantilever_beam"``: clamped-free Euler-Bernoulli beam (bending in one
+    plane). DOFs per free node k = 1..n_elements: deflection w_k (DOF 2k - 1) [m] and slope
+    theta_k (DOF 2k) [rad]; node n_elements is the tip."""
+
+    n_elements: int = Field(ge=1, le=2000, description="number of equal beam elements")
+    length_m: Positive = Field(description="beam length L")
+    E_Pa: Positive = Field(description="Young's modulus")
+    rho_kg_m3: Positive = Field(description="density")
+    area_m2: Positive = Field(description="cross-section area")
+    inertia_m4: Positive = Field(description="second moment of area of the bending plane")
+    rayleigh_alpha_per_s: NonNegative = Field(0.0, description="Rayleigh damping D = alpha M + "
+                                                               "beta K: alpha")
+    rayleigh_beta_s: NonNegative = Field(0.0, description="Rayleigh damping: beta")
+
+
+def _build_cantilever(spec: CantileverBeamModel, ctx: BuildContext):
+    from fricdamp.structure.beam import cantilever_beam
+
+    ray = None
+    if spec.rayleigh_alpha_per_s or spec.rayleigh_beta_s:
+        ray = (spec.rayleigh_alpha_per_s, spec.rayleigh_beta_s)
+    return cantilever_beam(spec.n_elements, spec.length_m, spec.E_Pa, spec.rho_kg_m3, spec.area_m2,
+                           spec.inertia_m4, rayleigh=ray, name="cantilever")
+
+
+register_model("cantilever_beam", CantileverBeamModel, _build_cantilever,
+               description="clamped-free Euler-Bernoulli beam (w, theta per node)")
+
+
+# ------------------------------------------------------------------------------- FRF
+class FRF(Section):
+    """``[analysis.frf]``: frequency response through resonance by harmonic balance (AFT)
+    and pseudo-arclength continuation."""
+
+    force_amplitude_N: list[float] = Field(
+        min_length=1, description="amplitude F of F cos(2 pi f t), one entry per DOF")
+    frequency_start_hz: Positive = Field(description="start of the frequency range")
+    frequency_end_hz: Positive = Field(description="end of the frequency range")
+    harmonics: int = Field(7, ge=1, le=200, description="highest harmonic H")
+    samples: int | None = Field(None, ge=8, le=1_000_000,
+                                description="AFT time samples per period (default 2^k >= 16 H)")
+    response_dof: int | None = Field(None, ge=1, description="DOF whose amplitude is reported "
+                                                             "(default: largest response)")
+    step: Positive = Field(0.02, le=0.5, description="initial continuation step (scaled)")
+    max_points: int = Field(2000, ge=10, le=100_000, description="largest number of points")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if not any(self.force_amplitude_N):
+            raise ValueError("force_amplitude_N must have a non-zero entry")
+        if self.frequency_start_hz == self.frequency_end_hz:
+            raise ValueError("frequency_start_hz and frequency_end_hz must differ")
+        return self
+
+
+def _check_frf(system, spec: FRF) -> None:
+    _check_vector(spec.force_amplitude_N, system.n_dof, "force_amplitude_N")
+    _check_dof(spec.response_dof, system.n_dof, "response_dof")
+
+
+def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
+
+    from fricdamp.solvers.hb import frequency_response
+    from fricdamp.structure.system import HarmonicLoad
+
+    w0 = 2 * np.pi * spec.frequency_start_hz
+    w1 = 2 * np.pi * spec.frequency_end_hz
+    sys_ = system.with_loads(HarmonicLoad(np.asarray(spec.force_amplitude_N, float), w0))
+    res = frequency_response(sys_, w0, w1, harmonics=spec.harmonics, samples=spec.samples,
+                             step=spec.step, max_points=spec.max_points)
+    if res.n_points == 0:
+        raise ConvergenceError(f"frequency response: no converged point ({res.message})")
+    dof = (spec.response_dof - 1 if spec.response_dof is not None
+           else int(np.argmax(np.max(res.amplitude, axis=0))))
+    amp = res.amplitude[:, dof]
+    diss = res.dissipated_energy.sum(axis=1) if res.dissipated_energy.size else np.zeros(
+        res.n_points)
+    ipk = int(np.argmax(amp))
+    notes = [] if res.success else [f"the continuation stopped early: {res.message}"]
+    summary = {
+        "omega_rad_s": res.omega,
+        "frequency_hz": res.omega / (2 * np.pi),
+        "amplitude_m": amp,
+        "dissipated_energy_J": diss,
+        "external_work_J": res.external_work,
+        "response_dof": dof + 1,
+        "response_dof_name": system.names[dof],
+        "peak_frequency_hz": float(res.omega[ipk] / (2 * np.pi)),
+        "peak_amplitude_m": float(amp[ipk]),
+        "n_points": res.n_points,
+        "harmonics": res.harmonics,
+        "samples": res.samples,
+        "method": res.method,
+        "energy_balance_error": float(np.max(res.energy_balance_error)),
+        "status": res.status,
+        "message": res.message,
+        "solver_runtime_s": float(res.wall_time),
+    }
+    arrays = {"curve": res.to_xarray()}
+    headline = (f"{res.n_points} HB points (H = {res.harmonics}) in {res.wall_time:.2f} s; "
+                f"peak {amp[ipk]:.3g} m of {system.names[dof]} at "
+                f"{summary['peak_frequency_hz']:.4g} Hz; energy balance error "
+                f"{summary['energy_balance_error']:.1e}")
+
+    def figures():
+        from fricdamp import plot
+
+        f = res.omega / (2 * np.pi)
+        fig, axes = plot.new_figure(2, 1, sharex=True, title="Frequency response (harmonic "
+                                    f"balance, H = {res.harmonics})")
+        fa, la = plot.si_scale(amp, "m")
+        axes[0, 0].plot(f, amp / fa, lw=1.5)
+        axes[0, 0].plot(f[ipk], amp[ipk] / fa, "o", ms=5)
+        axes[0, 0].set_ylabel(f"amplitude of {system.names[dof]} [{la}]")
+        fe, le = plot.si_scale(diss, "J")
+        axes[1, 0].plot(f, diss / fe, lw=1.5, color="C3")
+        axes[1, 0].set_ylabel(f"friction energy per cycle [{le}]")
+        axes[1, 0].set_xlabel("excitation frequency [Hz]")
+        return [("frf.png", "Frequency response and friction energy per cycle", fig)]
+
+    return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
+                          notes=notes)
+
+
+# ------------------------------------------------------------------------------- NMA
+class NMA(Section):
+    """``[analysis.nma]``: amplitude-dependent frequency and damping ratio of one mode
+    (extended periodic motion concept)."""
+
+    mode: int = Field(1, ge=1, le=1000, description="mode number (1 = lowest, contacts stuck)")
+    amplitude_dof: int = Field(ge=1, description="DOF at which the amplitude is measured")
+    amplitudes_m: list[Positive] = Field(min_length=2, description="increasing fundamental "
+                                                                   "amplitudes at amplitude_dof")
+    harmonics: int = Field(7, ge=1, le=200, description="highest harmonic H")
+    samples: int | None = Field(None, ge=8, le=1_000_000, description="AFT samples per period")
+
+    @model_validator(mode="after")
+    def _increasing(self):
+        a = np.asarray(self.amplitudes_m)
+        if np.any(np.diff(a) <= 0):
+            raise ValueError("amplitudes_m must be strictly increasing")
+        return self
+
+
+def _check_nma(system, spec: NMA) -> None:
+    _check_dof(spec.amplitude_dof, system.n_dof, "amplitude_dof")
+
+
+def run_nma(system, spec: NMA, ctx: RunContext) -> AnalysisOutput:
+    from fricdamp.solvers.nma import nonlinear_modes
+
+    res = nonlinear_modes(system.with_loads(), spec.mode - 1, spec.amplitudes_m,
+                          harmonics=spec.harmonics, samples=spec.samples,
+                          amplitude_dof=spec.amplitude_dof - 1)
+    if res.amplitude.size == 0:
+        raise ConvergenceError(f"nonlinear modal analysis: no converged point ({res.message})")
+    notes = [] if res.success else [f"stopped early: {res.message}"]
+    diss = res.dissipated_energy.sum(axis=1) if res.dissipated_energy.size else np.zeros(
+        res.amplitude.size)
+    summary = {
+        "amplitude": res.amplitude,
+        "amplitude_unit": "m",
+        "amplitude_dof": spec.amplitude_dof,
+        "frequency_hz": res.frequency_hz,
+        "damping_ratio": res.damping_ratio,
+        "dissipated_energy_J": diss,
+        "linear_frequency_hz": float(res.linear_frequency / (2 * np.pi)),
+        "linear_damping_ratio": float(res.linear_damping_ratio),
+        "damping_ratio_definition": "energy-based modal ratio xi / (2 omega) of the EPMC",
+        "energy_balance_error": float(np.max(res.energy_balance_error)),
+        "status": res.status,
+        "message": res.message,
+    }
+    imax = int(np.argmax(res.damping_ratio))
+    headline = (f"mode {spec.mode}: {res.frequency_hz[0]:.4g} -> {res.frequency_hz[-1]:.4g} Hz, "
+                f"largest damping ratio {100 * res.damping_ratio[imax]:.3g} % at "
+                f"{res.amplitude[imax]:.3g} m")
+
+    def figures():
+        from fricdamp import plot
+
+        fig = plot.damping_vs_amplitude(res.amplitude, res.damping_ratio, res.frequency_hz,
+                                        title=f"Nonlinear mode {spec.mode} (H = "
+                                              f"{res.harmonics})")
+        return [("nma.png", "Nonlinear mode: damping ratio and frequency vs amplitude", fig)]
+
+    return AnalysisOutput(summary=summary, arrays={"modes": res.to_xarray()}, figures=figures,
+                          headline=headline, notes=notes)
+
+
+register_analysis("frf", FRF, run_frf, check=_check_frf,
+                  description="frequency response through resonance by harmonic balance")
+register_analysis("nma", NMA, run_nma, check=_check_nma,
+                  description="nonlinear modal analysis: frequency and damping vs amplitude")
