@@ -79,11 +79,11 @@ def _parser() -> argparse.ArgumentParser:
     common(d)
     d.set_defaults(func=_cmd_demo)
 
-    # design studies (fricdamp sweep / optimize) live in their own module
-    if importlib.util.find_spec("fricdamp.cli_studies") is not None:
-        from fricdamp import cli_studies
-
-        cli_studies.add_subparsers(sub)
+    # design studies (fricdamp sweep / optimize) and measurement post-processing
+    # (fricdamp identify) live in their own modules
+    for name in ("cli_studies", "cli_identify"):
+        if importlib.util.find_spec(f"fricdamp.{name}") is not None:
+            importlib.import_module(f"fricdamp.{name}").add_subparsers(sub)
     return p
 
 
@@ -96,7 +96,7 @@ def _out(msg: str) -> None:
 
 
 def _describe(case, system) -> str:
-    ncont = sum(c.n_contacts for c in system.contacts)
+    ncont = sum(c.n_contacts for c in getattr(system, "contacts", ()))
     laws = sorted({t for t, _ in case.contacts})
     return (f"case {case.name!r}: {case.model_type} model with {system.n_dof} DOF"
             f"{'s' if system.n_dof != 1 else ''}, {ncont} contact{'s' if ncont != 1 else ''}"

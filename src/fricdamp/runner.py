@@ -281,6 +281,21 @@ def build_system(case: Case, registry: Registry | None = None):
         system = reg.models[case.model_type].fn(case.model, ctx)
     except ModelError as exc:
         raise CaseError(f"[model] ({case.model_type}): {exc}") from None
+    from fricdamp.structure.system import MechanicalSystem
+
+    if not isinstance(system, MechanicalSystem):
+        # a paper's model object (its contacts are part of the model): see describe_system
+        if case.contacts:
+            raise CaseError(f"[[contacts]] cannot be added to a {case.model_type!r} model: its "
+                            "contacts are part of the model (set them in [model])")
+        for name, spec in case.analyses.items():
+            check = reg.analyses[name].check
+            if check is not None:
+                try:
+                    check(system, spec)
+                except (CaseError, ModelError) as exc:
+                    raise CaseError(f"[analysis.{name}] {exc}") from None
+        return system
     elements = []
     for i, (ctype, spec) in enumerate(case.contacts, start=1):
         where = f"[[contacts]] #{i} ({ctype})"
@@ -431,6 +446,14 @@ def describe_system(system) -> dict:
     import scipy.linalg as sla
     import scipy.sparse as sp
 
+    from fricdamp.structure.system import MechanicalSystem
+
+    if not isinstance(system, MechanicalSystem):
+        # model objects of the papers' systems describe themselves
+        info = dict(system.describe()) if hasattr(system, "describe") else {}
+        info.setdefault("n_dof", int(getattr(system, "n_dof", 0)))
+        info.setdefault("contacts", [])
+        return info
     info = {"n_dof": system.n_dof, "dof_names": list(system.names),
             "contacts": [{"name": c.name, "law": type(c.law).__name__,
                           "n_contacts": c.n_contacts, "n_dir": c.n_dir}
@@ -584,7 +607,20 @@ register_contact("contact3d", Contact3DContact, _build_contact3d,
 
 # ================================================================================ built-ins
 # The built-in analyses register themselves on import (they need the registry above).
-from fricdamp.analyses import frequency as _frequency  # noqa: E402,F401
+
+def _import_analyses() -> None:
+    """Import every module of :mod:`fricdamp.analyses` (each registers its tables)."""
+    import importlib
+    import pkgutil
+
+    import fricdamp.analyses as pkg
+
+    for mod in sorted(m.name for m in pkgutil.iter_modules(pkg.__path__)):
+        if not mod.startswith("_"):
+            importlib.import_module(f"fricdamp.analyses.{mod}")
+
+
+_import_analyses()
 from fricdamp.analyses.timedomain import (  # noqa: E402
     coulomb_loop_energy,
     jenkins_loop_energy,

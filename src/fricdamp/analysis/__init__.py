@@ -31,9 +31,23 @@ from fricdamp.analysis.energy import (
     peak_strain_energy,
     steady_cycle,
 )
+from fricdamp.analysis.identify import (
+    JointIdentification,
+    JointRigGeometry,
+    identify_from_table,
+    identify_joint,
+    joint_torque,
+)
 from fricdamp.analysis.signals import SignalTable, fft_integrate, read_signals_csv
+from fricdamp.analysis.uff import read_signals_uff
 
 __all__ = [
+    "JointIdentification",
+    "JointRigGeometry",
+    "identify_from_table",
+    "identify_joint",
+    "joint_torque",
+    "read_signals_uff",
     "CoulombFit",
     "DecayResult",
     "Envelope",

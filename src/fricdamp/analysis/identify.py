@@ -1,0 +1,796 @@
+"""Joint identification from three accelerometers: paper 002's Fig. 7 pipeline.
+
+Bouchaala et al. (2014) measure the torque-rotation loop of a rotational friction joint with
+accelerometers only. Beam 1 (driven by the shaker, carrying accelerometers A and B) and beam 2
+(hanging from the joint O, carrying C) are rigid; ``theta1``, ``theta2`` are their rotations and
+``x1`` the horizontal displacement of the centre of mass G1 of beam 1. The pipeline is
+
+1. tangential accelerations ``gamma_A, gamma_B, gamma_C`` -> ``theta1''``, ``x1''``,
+   ``theta2''`` by the kinematic relations 002 (B.1)-(B.10) (:func:`beam_accelerations`);
+2. FFT / IFFT integration into velocities and rotations, on whole periods of the excitation
+   (002 Fig. 7);
+3. the joint torque from the Lagrange equation of beam 2, 002 (8) (:func:`joint_torque`);
+4. the loop ``M`` vs ``theta1 - theta2``, its area (energy dissipated per cycle) and paper
+   002's damping ratio (26)-(27).
+
+Geometry and conventions
+------------------------
+Positions along a beam are measured on its axis: on beam 1 from G1 towards the joint O
+(``d1`` for A, ``d2`` for B, ``d3 = l1/2 - h`` for O), on beam 2 from O away from beam 1
+(``d5 = l2/2 - h`` for G2, ``d5 + d4`` for C, i.e. ``d4`` is C's position from G2). A
+rotation ``theta`` moves a point at position ``s`` by ``s sin(theta)`` along ``X0``. The
+accelerometers measure along the beam-fixed tangential direction ``t_i = (cos theta_i,
+-sin theta_i)``. Differentiating the positions twice (tests/unit/test_identify_kinematics.py
+does it symbolically) gives the exact readings::
+
+    gamma_A = x1'' cos(theta1) + d1 theta1''                       (+ g sin(theta1))
+    gamma_B = x1'' cos(theta1) + d2 theta1''                       (+ g sin(theta1))
+    gamma_C = x1'' cos(theta2) + d3 theta1'' cos(theta1 - theta2)
+              - d3 theta1'^2 sin(theta1 - theta2) + (d4 + d5) theta2''  (+ g sin(theta2))
+
+(the bracketed terms are read by accelerometers that sense gravity, as piezoelectric ones do
+at the excitation frequency; ``Z0`` points down, paper 002 (5)). Linearised in the angles
+these are the paper's (B.1), (B.2) and (B.5) with ``x2'' = x1'' + d3 theta1'' + d5 theta2''``,
+the acceleration of G2. The extracted text of (B.9) is garbled (it reads ``x2'' = x1'' + d3
+theta1 + d5 theta2``, rotations instead of accelerations); the form above follows from (B.8)
+and is what (B.10) needs: ``theta2'' = (gamma_C - gamma_O) / (d4 + d5)`` with
+``gamma_O = x1'' + d3 theta1''`` (B.3). The ``"paper"`` kinematics of :func:`identify_joint`
+use these linear relations (002 Fig. 7); the ``"exact"`` kinematics solve the relations above
+with the rotations from a first pass (a fixed-point iteration; the corrections are of second
+order in the angles), which matters only for rotations of several degrees.
+
+Joint torque
+------------
+002 (8) is the Lagrange equation of ``theta2`` for the kinetic energy 002 (4) and potential
+002 (5): its only generalised force is the joint torque ``M``, the moment that beam 1 applies
+to beam 2 through the joint (the shaker drives beam 1). In the sign convention of
+:mod:`fricdamp.contact.base` it is the moment with which the joint resists the relative
+rotation ``theta1 - theta2``, so the loop area ``∮ M d(theta1 - theta2)`` is the energy the
+joint dissipates, positive. Note that 002 (A.2) prints the velocity term of this equation as
+``m2 d5 theta1'^2 sin(...)``: the factor ``d3`` is missing there but present in (6) and (8).
+
+Damping ratio
+-------------
+:func:`fricdamp.analysis.damping.paper002_damping_ratio`: ``xi = E_d / (pi theta_max
+M_max)``, paper 002 (26)-(27), with the half peak-to-peak amplitudes of rotation and torque.
+For a linear viscous loop this is (about) the **loss factor** ``eta = 2 zeta``, not the
+damping ratio zeta of a mode.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from fricdamp.analysis.damping import paper002_damping_ratio
+from fricdamp.analysis.energy import steady_cycle
+from fricdamp.analysis.signals import fft_integrate
+from fricdamp.errors import ModelError, as_finite_array, check_positive
+
+log = logging.getLogger(__name__)
+
+__all__ = [
+    "ACCELERATION_UNITS",
+    "JointIdentification",
+    "JointRigGeometry",
+    "acceleration_scale",
+    "beam_accelerations",
+    "beam_accelerations_exact",
+    "estimate_frequency",
+    "identify_from_table",
+    "identify_joint",
+    "joint_torque",
+]
+
+#: Acceleration units understood in signal headers, and their factor to m/s^2.
+ACCELERATION_UNITS: dict[str, float] = {
+    "m/s^2": 1.0, "m/s2": 1.0, "m/s²": 1.0, "m s^-2": 1.0, "m*s^-2": 1.0, "m/s/s": 1.0,
+    "ms^-2": 1.0, "ms-2": 1.0, "mm/s^2": 1e-3, "mm/s2": 1e-3, "mm/s²": 1e-3,
+    "g": 9.80665, "g0": 9.80665, "gn": 9.80665, "ft/s^2": 0.3048, "ft/s2": 0.3048,
+    "in/s^2": 0.0254, "in/s2": 0.0254,
+}
+
+
+def acceleration_scale(unit: str, *, channel: str = "") -> float:
+    """Factor turning an acceleration in ``unit`` into m/s^2 (``"g"`` -> 9.80665).
+
+    Raises
+    ------
+    ModelError
+        For an empty or unknown unit (naming the channel and the units understood).
+    """
+    key = str(unit).strip().lower().replace(" ", "")
+    key = {"m/s**2": "m/s^2", "mm/s**2": "mm/s^2"}.get(key, key)
+    where = f"channel {channel!r}: " if channel else ""
+    if not key:
+        raise ModelError(f"{where}no acceleration unit: give it in the header (e.g. "
+                         "'acc_A [m/s^2]' or '[g]') or set it explicitly; units understood: "
+                         f"{', '.join(ACCELERATION_UNITS)}")
+    if key not in ACCELERATION_UNITS:
+        raise ModelError(f"{where}unknown acceleration unit {unit!r}; units understood: "
+                         f"{', '.join(ACCELERATION_UNITS)}")
+    return ACCELERATION_UNITS[key]
+
+
+# ============================================================================ geometry
+@dataclass(frozen=True)
+class JointRigGeometry:
+    """What the identification needs to know about the test structure (paper 002 Fig. 6).
+
+    Positions follow the module docstring: on beam 1 from G1 towards the joint, on beam 2
+    from G2 away from the joint.
+
+    Parameters
+    ----------
+    sensor_a : float
+        d1, position of accelerometer A on beam 1 [m].
+    sensor_b : float
+        d2, position of accelerometer B on beam 1 [m]; ``d1 != d2`` (B.6).
+    joint_arm1 : float
+        d3 = l1/2 - h, position of the joint O on beam 1 [m], > 0 (002 (7)).
+    sensor_c : float
+        d4, position of accelerometer C on beam 2, from G2 [m]; ``d4 + d5 != 0`` (B.10).
+    joint_arm2 : float
+        d5 = l2/2 - h, distance from O to G2 [m], > 0 (002 (7)).
+    beam2_mass : float
+        m2 [kg], > 0.
+    beam2_inertia : float
+        I2, moment of inertia of beam 2 about G2 [kg m^2], > 0 (002 (10)).
+    gravity : float, optional
+        g [m/s^2], >= 0; default 9.81.
+    """
+
+    sensor_a: float
+    sensor_b: float
+    joint_arm1: float
+    sensor_c: float
+    joint_arm2: float
+    beam2_mass: float
+    beam2_inertia: float
+    gravity: float = 9.81
+
+    def __post_init__(self):
+        for name in ("sensor_a", "sensor_b", "sensor_c"):
+            object.__setattr__(self, name, float(as_finite_array(name, getattr(self, name),
+                                                                 ndim=0)))
+        for name, unit in (("joint_arm1", "m"), ("joint_arm2", "m"), ("beam2_mass", "kg"),
+                           ("beam2_inertia", "kg m^2")):
+            v = check_positive(name, getattr(self, name), unit=unit)
+            if v.ndim:
+                raise ModelError(f"{name} must be a scalar, got shape {v.shape}")
+            object.__setattr__(self, name, float(v))
+        g = check_positive("gravity", self.gravity, unit="m/s^2", allow_zero=True)
+        object.__setattr__(self, "gravity", float(g))
+        scale = max(abs(self.sensor_a), abs(self.sensor_b), self.joint_arm1)
+        if abs(self.sensor_a - self.sensor_b) <= 1e-6 * scale:
+            raise ModelError(f"sensor_a (d1 = {self.sensor_a!r} m) and sensor_b (d2 = "
+                             f"{self.sensor_b!r} m) must differ: theta1'' = (gamma_A - "
+                             "gamma_B) / (d1 - d2), 002 (B.6)")
+        if abs(self.sensor_c + self.joint_arm2) <= 1e-6 * self.joint_arm2:
+            raise ModelError(f"accelerometer C must not sit on the joint: sensor_c + "
+                             f"joint_arm2 (d4 + d5) must be != 0, got {self.sensor_c!r} + "
+                             f"{self.joint_arm2!r} m (002 (B.10))")
+
+
+def beam_accelerations(geometry: JointRigGeometry, gamma_a, gamma_b, gamma_c):
+    """``theta1''``, ``theta2''``, ``x1''`` from the tangential accelerations, 002 (B.1)-(B.10).
+
+    The paper's linear kinematics (module docstring)::
+
+        theta1'' = (gamma_A - gamma_B) / (d1 - d2)                  (B.6)
+        x1''     = (gamma_A + gamma_B - (d1 + d2) theta1'') / 2     (B.6)
+        theta2'' = (gamma_C - x1'' - d3 theta1'') / (d4 + d5)       (B.3), (B.10)
+
+    Parameters
+    ----------
+    geometry : JointRigGeometry
+    gamma_a, gamma_b, gamma_c : array_like, shape (n,) (or broadcastable)
+        Tangential accelerations at A, B, C [m/s^2].
+
+    Returns
+    -------
+    theta1_dd, theta2_dd : ndarray
+        Angular accelerations [rad/s^2].
+    x1_dd : ndarray
+        Acceleration of G1 [m/s^2].
+
+    Examples
+    --------
+    G1 accelerating at 2 m/s^2, beam 1 at 10 rad/s^2, beam 2 not rotating:
+
+    >>> geom = JointRigGeometry(-0.09, 0.0, 0.091, 0.09, 0.091, 0.44, 1.5e-3)
+    >>> ga, gb = 2.0 - 0.09 * 10.0, 2.0          # (B.1), (B.2)
+    >>> gc = 2.0 + 0.091 * 10.0                   # C moves with O: x1'' + d3 theta1''
+    >>> [round(float(x), 12) for x in beam_accelerations(geom, ga, gb, gc)]
+    [10.0, 0.0, 2.0]
+    """
+    ga, gb, gc = (np.asarray(x, dtype=float) for x in (gamma_a, gamma_b, gamma_c))
+    d1, d2, d3 = geometry.sensor_a, geometry.sensor_b, geometry.joint_arm1
+    th1 = (ga - gb) / (d1 - d2)  # 002 (B.6)
+    x1 = 0.5 * (ga + gb - (d1 + d2) * th1)  # 002 (B.6)
+    th2 = (gc - (x1 + d3 * th1)) / (geometry.sensor_c + geometry.joint_arm2)  # (B.3), (B.10)
+    return th1, th2, x1
+
+
+def beam_accelerations_exact(geometry: JointRigGeometry, gamma_a, gamma_b, gamma_c, theta1,
+                             theta2, theta1_dot, *, gravity_sensing: bool = False):
+    """Angular and linear accelerations from the exact (nonlinear) sensor kinematics.
+
+    Solves the relations of the module docstring for ``theta1''``, ``x1''`` and
+    ``theta2''`` given the rotations and ``theta1'`` (from a first, linear pass).
+
+    Parameters
+    ----------
+    geometry : JointRigGeometry
+    gamma_a, gamma_b, gamma_c : array_like, shape (n,)
+        Tangential accelerations at A, B, C [m/s^2].
+    theta1, theta2 : array_like, shape (n,)
+        Rotations of the beams [rad].
+    theta1_dot : array_like, shape (n,)
+        Angular velocity of beam 1 [rad/s].
+    gravity_sensing : bool, optional
+        The accelerometers also read the tangential component of gravity ``g sin(theta)``
+        (true for piezoelectric sensors at the excitation frequency); default False.
+
+    Returns
+    -------
+    theta1_dd, theta2_dd, x1_dd : ndarray
+        As :func:`beam_accelerations`.
+    """
+    ga, gb, gc, t1, t2, w1 = (np.asarray(x, dtype=float) for x in
+                              (gamma_a, gamma_b, gamma_c, theta1, theta2, theta1_dot))
+    g = geometry.gravity if gravity_sensing else 0.0
+    d1, d2, d3 = geometry.sensor_a, geometry.sensor_b, geometry.joint_arm1
+    ga = ga - g * np.sin(t1)
+    gb = gb - g * np.sin(t1)
+    gc = gc - g * np.sin(t2)
+    th1 = (ga - gb) / (d1 - d2)
+    x1 = 0.5 * (ga + gb - (d1 + d2) * th1) / np.cos(t1)
+    rel = t1 - t2
+    o_t = x1 * np.cos(t2) + d3 * (th1 * np.cos(rel) - w1 * w1 * np.sin(rel))
+    th2 = (gc - o_t) / (geometry.sensor_c + geometry.joint_arm2)
+    return th1, th2, x1
+
+
+def joint_torque(geometry: JointRigGeometry, theta1, theta2, theta1_dot, theta1_dd, theta2_dd,
+                 x1_dd):
+    """Joint torque from the Lagrange equation of beam 2, paper 002 (8) [N m].
+
+    ``M = (I2 + m2 d5^2) theta2'' + m2 d5 x1'' cos(theta2) + m2 d3 d5 theta1'' cos(theta1 -
+    theta2) - m2 d3 d5 theta1'^2 sin(theta1 - theta2) + m2 g d5 sin(theta2)``: the moment
+    that beam 1 applies to beam 2 through the joint, i.e. the moment with which the joint
+    resists the relative rotation ``theta1 - theta2``.
+
+    Parameters
+    ----------
+    geometry : JointRigGeometry
+    theta1, theta2, theta1_dot, theta1_dd, theta2_dd, x1_dd : array_like, shape (n,)
+        Rotations [rad], angular velocity of beam 1 [rad/s], angular accelerations
+        [rad/s^2] and acceleration of G1 [m/s^2].
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        M [N m].
+    """
+    t1, t2, w1, a1, a2, ax = (np.asarray(x, dtype=float) for x in
+                              (theta1, theta2, theta1_dot, theta1_dd, theta2_dd, x1_dd))
+    m2, i2, g = geometry.beam2_mass, geometry.beam2_inertia, geometry.gravity
+    d3, d5 = geometry.joint_arm1, geometry.joint_arm2
+    rel = t1 - t2
+    return ((i2 + m2 * d5 * d5) * a2 + m2 * d5 * ax * np.cos(t2)  # 002 (8)
+            + m2 * d3 * d5 * (a1 * np.cos(rel) - w1 * w1 * np.sin(rel))
+            + m2 * g * d5 * np.sin(t2))
+
+
+# ============================================================================ signals
+def estimate_frequency(x, dt: float, *, f_min: float = 0.0) -> float:
+    """Frequency [Hz] of the strongest spectral line of a sampled signal.
+
+    Hann window, largest bin above ``f_min``, then a parabola through the logarithms of the
+    magnitudes of that bin and its neighbours (accurate to a few thousandths of a bin for a
+    clean line: for N periods in the record, a relative error of about 1e-3 / N).
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Signal, n >= 16.
+    dt : float
+        Sampling interval [s].
+    f_min : float, optional
+        Lines below this frequency [Hz] are ignored (e.g. a suspension mode); default 0.
+
+    Returns
+    -------
+    float
+        Frequency [Hz].
+    """
+    x = as_finite_array("x", x, ndim=1)
+    if x.size < 16:
+        raise ModelError(f"estimating a frequency needs at least 16 samples, got {x.size}")
+    dt = float(check_positive("dt", dt, unit="s"))
+    n = x.size
+    spec = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(n)))
+    freq = np.fft.rfftfreq(n, dt)
+    spec[freq < max(f_min, 1e-300)] = 0.0
+    k = int(np.argmax(spec))
+    if spec[k] <= 0.0:
+        raise ModelError("the signal has no spectral line (it is constant or zero)")
+    if 0 < k < spec.size - 1 and spec[k - 1] > 0 and spec[k + 1] > 0:
+        a, b, c = np.log(spec[k - 1]), np.log(spec[k]), np.log(spec[k + 1])
+        den = a - 2.0 * b + c
+        delta = 0.5 * (a - c) / den if den < 0 else 0.0
+    else:
+        delta = 0.0
+    return float((k + delta) / (n * dt))
+
+
+def _check_time(t) -> tuple[np.ndarray, float]:
+    t = as_finite_array("time", t, ndim=1)
+    if t.size < 16:
+        raise ModelError(f"the record needs at least 16 samples, got {t.size}")
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        raise ModelError("time must be strictly increasing")
+    dt = float((t[-1] - t[0]) / (t.size - 1))  # the mean step: no rounding of single steps
+    if np.max(np.abs(steps - dt)) > 1e-6 * dt + 1e-12 * abs(t[-1]):
+        i = int(np.argmax(np.abs(steps - dt)))
+        raise ModelError(f"the samples must be uniformly spaced (FFT integration): the step "
+                         f"at sample {i} is {steps[i]:.6g} s, the mean step {dt:.6g} s; "
+                         "resample the record first")
+    return t, dt
+
+
+def _largest_prime_factor(m: int) -> int:
+    m = int(m)
+    largest, p = 1, 2
+    while p * p <= m:
+        while m % p == 0:
+            largest, m = p, m // p
+        p += 1
+    return max(largest, m)
+
+
+#: FFT lengths whose prime factors are all below this are fast (pocketfft); a record whose
+#: length has a large prime factor (9973 Hz sampling) is ~5x slower to transform
+_FFT_PRIME_LIMIT = 100
+
+
+def _whole_periods(t, x, dt, frequency, periods):
+    """The last whole periods of the record: ``(t, x, n_periods, resampled, dt)``.
+
+    Raw samples whenever a whole number of periods spans a whole number of samples (to 1e-6
+    of a sample) whose prime factors are small (a fast FFT length): every period asked when
+    a period is a whole number of samples, otherwise the largest such number of periods not
+    below 3/4 of those asked (10240 Hz at 30 Hz: 3 periods are 1024 samples). Otherwise the
+    periods are resampled by a cubic spline (:func:`steady_cycle`, error O(h^4)) on a fast
+    FFT length of at least ``ceil(samples per period)`` points per period.
+    """
+    from scipy.fft import next_fast_len
+
+    per = 1.0 / (frequency * dt)  # samples per period
+    if per < 8:
+        raise ModelError(f"{per:.3g} samples per period of {frequency:g} Hz: at least 8 are "
+                         "needed (sample faster)")
+    # n raw samples hold n / per whole periods (half-open window); interpolation needs the
+    # closing sample: (n - 1) / per
+    avail_raw = int(np.floor(t.size / per + 1e-9))
+    avail_int = int(np.floor((t.size - 1) / per + 1e-9))
+    if avail_raw < 1:
+        raise ModelError(f"the record ({(t.size - 1) * dt:.4g} s) is shorter than one period "
+                         f"of {frequency:g} Hz")
+    if periods is None:
+        periods = avail_raw
+    if int(periods) != periods or periods < 1:
+        raise ModelError(f"periods must be an integer >= 1, got {periods!r}")
+    periods = int(periods)
+    if periods > avail_raw:
+        raise ModelError(f"periods = {periods} whole periods of {frequency:g} Hz asked for, "
+                         f"the record holds {avail_raw}")
+    candidates = range(periods, int(np.ceil(0.75 * periods)) - 1, -1)
+    for n_per in candidates:
+        m = n_per * per
+        if abs(m - round(m)) <= 1e-6 and _largest_prime_factor(round(m)) < _FFT_PRIME_LIMIT:
+            m = int(round(m))
+            return t[-m:].copy(), x[-m:].copy(), n_per, False, dt
+    periods = min(periods, avail_int)
+    if periods < 1:  # pragma: no cover - needs a record of exactly one period
+        raise ModelError("the record is too short to be resampled on one whole period")
+    periods = next((n for n in range(periods, int(np.ceil(0.75 * periods)) - 1, -1)
+                    if _largest_prime_factor(n) < _FFT_PRIME_LIMIT), periods)
+    spc = int(next_fast_len(int(np.ceil(per - 1e-9)), real=True))
+    tw, xw = steady_cycle(t, x, 1.0 / frequency, n_cycles=periods, samples_per_cycle=spc,
+                          interpolation="cubic")
+    return tw, xw, periods, True, 1.0 / (frequency * spc)
+
+
+def _harmonic_mask(n: int, n_periods: int, n_harmonics: int | None) -> np.ndarray:
+    """rfft bins of the harmonics 1..n_harmonics of a record of n_periods periods."""
+    bins = np.arange(n // 2 + 1)
+    keep = (bins % n_periods == 0) & (bins > 0)
+    if n % 2 == 0:
+        keep[-1] = False  # Nyquist: no phase information
+    if n_harmonics is not None:
+        keep &= bins <= n_harmonics * n_periods
+    return keep
+
+
+def _remove_drift(x, n_periods):
+    """Subtract the linear drift estimated from the means of the first and last periods.
+
+    The per-period means of a periodic signal are all equal, so the estimate is exactly zero
+    for it (unlike a least-squares line, which correlates with the oscillation) and exactly
+    the slope of a linear drift (sensor offset creeping, integration constant).
+    """
+    n = x.shape[0]
+    if n_periods < 2:
+        return x
+    m = n // n_periods
+    slope = (x[n - m:].mean(axis=0) - x[:m].mean(axis=0)) / (n - m)  # per sample
+    return x - slope * (np.arange(n) - 0.5 * (n - 1))[:, None]
+
+
+def _spectral(x, dt, n_periods, mode, n_harmonics, f_low):
+    """Filter and integrate the accelerations x (n, 3) = (theta1'', theta2'', x1'').
+
+    Returns the filtered accelerations (n, 3), the angular velocity of beam 1 (n,) (the
+    only velocity the torque needs), the integrals (n, 3), and the fraction of the signal's
+    RMS (without the mean) that the filter removed (drift included).
+    """
+    from scipy import fft as sfft
+
+    n = x.shape[0]
+    x0 = x - x.mean(axis=0)
+    total = float(np.sum(x0 * x0))
+    x = _remove_drift(x, n_periods)
+    spec = sfft.rfft(x, axis=0)
+    freq = sfft.rfftfreq(n, dt)
+    if mode == "harmonic":
+        keep = _harmonic_mask(n, n_periods, n_harmonics)
+    else:
+        keep = freq >= max(f_low, 1e-300)
+        if n % 2 == 0:
+            keep[-1] = False
+    spec[~keep] = 0.0
+    kept = sfft.irfft(spec, n=n, axis=0)
+    residual = float(np.sqrt(np.sum((x0 - kept) ** 2) / total)) if total > 0 else 0.0
+    if mode == "harmonic":
+        iw = np.zeros(freq.size, dtype=complex)
+        iw[keep] = 1.0 / (2j * np.pi * freq[keep])
+        spec *= iw[:, None]
+        vel = sfft.irfft(spec[:, 0], n=n)
+        spec *= iw[:, None]
+        dis = sfft.irfft(spec, n=n, axis=0)
+        return kept, vel, dis, residual
+    vel = fft_integrate(x[:, 0], dt, 1, f_low=f_low)
+    dis = fft_integrate(x, dt, 2, f_low=f_low)
+    return x - x.mean(axis=0), vel, dis, residual
+
+
+# ============================================================================ result
+@dataclass(frozen=True)
+class JointIdentification:
+    """Torque-rotation loop of a joint identified from accelerometer signals.
+
+    Attributes
+    ----------
+    time : ndarray, shape (m,)
+        Times of the analysed window [s] (``n_periods`` whole periods, not closed).
+    theta1, theta2 : ndarray, shape (m,)
+        Rotations of beam 1 and beam 2 [rad] (zero mean: a constant is not measurable).
+    x1 : ndarray, shape (m,)
+        Displacement of G1 [m] (zero mean).
+    rotation : ndarray, shape (m,)
+        Relative rotation ``theta1 - theta2`` of the joint [rad].
+    torque : ndarray, shape (m,)
+        Joint torque M [N m], 002 (8).
+    frequency_hz : float
+        Excitation frequency [Hz] (given or estimated).
+    n_periods : int
+        Whole periods analysed.
+    dissipated_energy : float
+        Energy dissipated per cycle [J]: ``∮ M d(theta1 - theta2)`` over the window divided
+        by ``n_periods``.
+    cycle_energy : ndarray, shape (n_periods,)
+        Loop area of each period [J] (split at the nearest samples when a period is not a
+        whole number of samples); their spread shows how steady the record is (none left
+        after the harmonic filter).
+    rotation_amplitude : float
+        ``theta_max`` = half the peak-to-peak relative rotation [rad].
+    torque_amplitude : float
+        ``M_max`` = half the peak-to-peak torque [N m].
+    damping_ratio : float
+        Paper 002's ``xi = E_d / (pi theta_max M_max)``, (26)-(27) [-]; this is (about) the
+        loss factor 2 zeta of a viscous loop, not a modal damping ratio.
+    kinematics, filter : str
+        Options used (see :func:`identify_joint`).
+    resampled : bool
+        True when the window was resampled to a whole number of samples per period.
+    filtered_fraction : float
+        RMS of what the filter removed from the angular and linear accelerations (noise,
+        transients, offsets, leakage) relative to their RMS without the mean [-]: a few
+        percent for a clean steady record.
+    source : str
+        Where the signals came from.
+    """
+
+    time: np.ndarray
+    theta1: np.ndarray
+    theta2: np.ndarray
+    x1: np.ndarray
+    rotation: np.ndarray
+    torque: np.ndarray
+    frequency_hz: float
+    n_periods: int
+    dissipated_energy: float
+    cycle_energy: np.ndarray
+    rotation_amplitude: float
+    torque_amplitude: float
+    damping_ratio: float
+    kinematics: str = "paper"
+    filter: str = "harmonic"
+    resampled: bool = False
+    filtered_fraction: float = 0.0
+    source: str = ""
+    meta: dict = field(default_factory=dict, compare=False)
+
+    @property
+    def samples_per_period(self) -> float:
+        """Samples per period of the window (not always a whole number)."""
+        return self.time.size / self.n_periods
+
+    def cycle(self, samples: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """One period of the loop (rotation [rad], torque [N m]): the synchronous average.
+
+        The harmonics of the window's spectrum (bins at multiples of ``n_periods``) summed
+        at ``samples`` equally spaced phases (default ``ceil(samples_per_period)``), starting
+        at the window's first sample; the same as averaging the periods sample by sample
+        when a period is a whole number of samples, and exact for any rate otherwise.
+        """
+        n, N = self.time.size, self.n_periods
+        m = int(np.ceil(n / N - 1e-9)) if samples is None else int(samples)
+        if m < 4:
+            raise ModelError(f"samples must be >= 4, got {samples!r}")
+        out = []
+        for x in (self.rotation, self.torque):
+            H = np.fft.rfft(x)[::N]
+            k = min(H.size, (m + 1) // 2)  # harmonics strictly below the Nyquist of m
+            C = np.zeros(m // 2 + 1, dtype=complex)
+            C[:k] = H[:k] * (m / n)
+            out.append(np.fft.irfft(C, n=m))
+        return out[0], out[1]
+
+    def to_dict(self) -> dict:
+        """JSON-able key numbers (units in the key names)."""
+        ce = self.cycle_energy
+        spread = float(np.std(ce) / abs(np.mean(ce))) if ce.size > 1 and np.mean(ce) else 0.0
+        return {
+            "dissipated_energy_J": float(self.dissipated_energy),
+            "rotation_amplitude_rad": float(self.rotation_amplitude),
+            "torque_amplitude_Nm": float(self.torque_amplitude),
+            "damping_ratio": float(self.damping_ratio),
+            "damping_ratio_definition": "paper 002 (26)-(27): xi = E_d / (pi theta_max M_max)"
+                                        ", about the loss factor (2 zeta) of a viscous loop",
+            "frequency_hz": float(self.frequency_hz),
+            "n_periods": int(self.n_periods),
+            "samples_per_period": float(self.samples_per_period),
+            "cycle_energy_relative_spread": spread,
+            "filtered_fraction": float(self.filtered_fraction),
+            "kinematics": self.kinematics,
+            "filter": self.filter,
+            "resampled": bool(self.resampled),
+            "source": self.source,
+        }
+
+    def plot(self, ax=None, *, label: str | None = None, all_periods: bool = False):
+        """Torque vs relative rotation (mrad); returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5.5, 4.2))
+        r, f = (self.rotation, self.torque) if all_periods else self.cycle()
+        r = np.append(r, r[0])
+        f = np.append(f, f[0])
+        ax.plot(1e3 * r, f, lw=1.2, label=label or
+                f"E_d = {self.dissipated_energy:.3g} J, xi = {self.damping_ratio:.3g}")
+        ax.set_xlabel(r"relative rotation $\theta_1-\theta_2$ [mrad]")
+        ax.set_ylabel("joint torque M [N m]")
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper left", fontsize="small")
+        return ax
+
+
+# ============================================================================ pipeline
+def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, *,
+                   frequency_hz: float | None = None, periods: int | None = None,
+                   kinematics: Literal["paper", "exact"] = "paper",
+                   gravity_sensing: bool = False,
+                   filter: Literal["harmonic", "highpass"] = "harmonic",
+                   n_harmonics: int | None = None, f_low_hz: float | None = None,
+                   iterations: int = 3, source: str = "") -> JointIdentification:
+    """Torque-rotation loop, dissipated energy and damping ratio from three accelerometers.
+
+    Paper 002 Fig. 7: accelerations -> (B.1)-(B.10) -> FFT/IFFT integration -> torque (8)
+    -> loop -> energy and (26)-(27). The care taken with the integration:
+
+    * the last ``periods`` **whole periods** of the excitation are analysed, with a whole
+      number of samples per period (the record is resampled by a cubic spline when the
+      sampling rate is not commensurate with the frequency), so the FFT sees a periodic
+      signal and integrates it without leakage;
+    * a linear drift of the angular and linear accelerations (estimated from the means of
+      the first and last periods, which is exactly zero for a periodic signal) is removed;
+    * ``filter="harmonic"`` (default) keeps only the harmonics of the excitation frequency
+      (the spectral lines of a periodic steady state): it removes offsets and drifts of the
+      sensors, slow transients and all noise between the lines (the synchronous average of
+      the periods, in one FFT); ``filter="highpass"`` keeps every line above ``f_low_hz``
+      (default half the excitation frequency) and removes the mean
+      (:func:`fricdamp.analysis.signals.fft_integrate`).
+
+    The constants of integration (mean rotations and displacement) are not measurable and
+    are set to zero; they change neither the loop area nor the amplitudes.
+
+    Parameters
+    ----------
+    time : array_like, shape (n,)
+        Uniform sample times [s].
+    gamma_a, gamma_b, gamma_c : array_like, shape (n,)
+        Tangential accelerations at A, B (beam 1) and C (beam 2) [m/s^2].
+    geometry : JointRigGeometry
+        Positions, mass and inertia of beam 2.
+    frequency_hz : float, optional
+        Excitation frequency [Hz]; estimated from the strongest line of the accelerations
+        when omitted (:func:`estimate_frequency`).
+    periods : int, optional
+        Whole periods to analyse, counted from the end of the record (the steady state);
+        default every whole period of the record.
+    kinematics : {"paper", "exact"}, optional
+        The paper's linear relations (B.1)-(B.10) (default), or the exact sensor kinematics
+        solved by ``iterations`` fixed-point passes (module docstring).
+    gravity_sensing : bool, optional
+        With ``kinematics="exact"``: the sensors read the tangential component of gravity.
+    filter : {"harmonic", "highpass"}, optional
+        See above; default "harmonic".
+    n_harmonics : int, optional
+        Highest harmonic kept by the harmonic filter (default: all below Nyquist).
+    f_low_hz : float, optional
+        Cut-off of the high-pass filter [Hz] (default ``frequency_hz / 2``).
+    iterations : int, optional
+        Fixed-point passes of the exact kinematics (default 3).
+    source : str, optional
+        Description of the signals' origin, kept in the result.
+
+    Returns
+    -------
+    JointIdentification
+
+    Raises
+    ------
+    ModelError
+        Non-uniform or too short records, fewer than 8 samples per period, channels of
+        different lengths or with NaN, bad options.
+
+    References
+    ----------
+    Bouchaala et al. (2014), section 3, Fig. 7, eqs (8), (26)-(27), appendix B.
+    """
+    t, dt = _check_time(time)
+    chans = []
+    for name, g in (("gamma_a", gamma_a), ("gamma_b", gamma_b), ("gamma_c", gamma_c)):
+        arr = as_finite_array(name, g, ndim=1)
+        if arr.size != t.size:
+            raise ModelError(f"{name} has {arr.size} samples, time has {t.size}")
+        chans.append(arr)
+    if kinematics not in ("paper", "exact"):
+        raise ModelError(f"kinematics must be 'paper' or 'exact', got {kinematics!r}")
+    if filter not in ("harmonic", "highpass"):
+        raise ModelError(f"filter must be 'harmonic' or 'highpass', got {filter!r}")
+    if int(iterations) != iterations or iterations < 1:
+        raise ModelError(f"iterations must be an integer >= 1, got {iterations!r}")
+    if n_harmonics is not None and (int(n_harmonics) != n_harmonics or n_harmonics < 1):
+        raise ModelError(f"n_harmonics must be an integer >= 1, got {n_harmonics!r}")
+    G = np.empty((t.size, 3))
+    for j, c in enumerate(chans):
+        G[:, j] = c
+    if frequency_hz is None:
+        strongest = int(np.argmax(np.std(G, axis=0)))
+        frequency_hz = estimate_frequency(G[:, strongest], dt)
+        log.info("estimated excitation frequency %.6g Hz", frequency_hz)
+    frequency_hz = float(check_positive("frequency_hz", frequency_hz, unit="Hz"))
+    if frequency_hz >= 0.5 / dt:
+        raise ModelError(f"frequency_hz = {frequency_hz:g} Hz is above the Nyquist frequency "
+                         f"{0.5 / dt:g} Hz of the record")
+    f_low = 0.5 * frequency_hz if f_low_hz is None else float(f_low_hz)
+
+    tw, Gw, n_per, resampled, dtw = _whole_periods(t, G, dt, frequency_hz, periods)
+    del G
+    acc = np.empty_like(Gw)
+    acc[:, 0], acc[:, 1], acc[:, 2] = beam_accelerations(geometry, Gw[:, 0], Gw[:, 1],
+                                                         Gw[:, 2])
+    a, v, d, residual = _spectral(acc, dtw, n_per, filter, n_harmonics, f_low)
+    if kinematics == "exact":
+        for _ in range(int(iterations)):
+            acc[:, 0], acc[:, 1], acc[:, 2] = beam_accelerations_exact(
+                geometry, Gw[:, 0], Gw[:, 1], Gw[:, 2], d[:, 0], d[:, 1], v,
+                gravity_sensing=gravity_sensing)
+            a, v, d, residual = _spectral(acc, dtw, n_per, filter, n_harmonics, f_low)
+    theta1, theta2, x1 = d[:, 0], d[:, 1], d[:, 2]
+    torque = joint_torque(geometry, theta1, theta2, v, a[:, 0], a[:, 1], a[:, 2])
+    rotation = theta1 - theta2
+
+    # loop area: trapezoids closed from the last sample to the first (one whole window)
+    inc = 0.5 * (torque + np.roll(torque, -1)) * (np.roll(rotation, -1) - rotation)
+    e_d = float(np.sum(inc)) / n_per
+    csum = np.concatenate(([0.0], np.cumsum(inc)))
+    bounds = np.round(np.arange(n_per + 1) * (tw.size / n_per)).astype(int)
+    cycles = np.diff(csum[bounds])
+    th_amp = 0.5 * float(np.ptp(rotation))
+    m_amp = 0.5 * float(np.ptp(torque))
+    if th_amp <= 0 or m_amp <= 0:
+        raise ModelError("the identified rotation or torque does not vary: no loop")
+    xi = paper002_damping_ratio(e_d, th_amp, m_amp, allow_negative=True)
+    if e_d < 0:
+        log.warning("negative loop area %.3g J: the loop runs the wrong way (check the sign "
+                    "conventions and channel assignment) or is noise only", e_d)
+    return JointIdentification(
+        time=tw, theta1=theta1, theta2=theta2, x1=x1, rotation=rotation, torque=torque,
+        frequency_hz=frequency_hz, n_periods=n_per, dissipated_energy=float(e_d),
+        cycle_energy=cycles, rotation_amplitude=th_amp, torque_amplitude=m_amp,
+        damping_ratio=float(xi), kinematics=kinematics, filter=filter, resampled=resampled,
+        filtered_fraction=residual, source=source)
+
+
+def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
+                        channels: Mapping[str, str] | None = None,
+                        units: Mapping[str, str] | str | None = None,
+                        **options) -> JointIdentification:
+    """Run :func:`identify_joint` on a table of signals (CSV or UFF reader output).
+
+    Parameters
+    ----------
+    table : SignalTable or mapping
+        ``"time"`` [s] and the channels (a :class:`~fricdamp.analysis.signals.SignalTable`
+        from :func:`~fricdamp.analysis.signals.read_signals_csv`, or the UFF reader's table);
+        its ``units`` attribute (name -> unit) gives each channel's unit.
+    geometry : JointRigGeometry
+    channels : mapping, optional
+        ``{"A": name, "B": name, "C": name}``: the table columns of the three accelerometers;
+        default the columns named A, B and C.
+    units : str or mapping, optional
+        Unit of every channel (a string) or per role ``{"A": "g", ...}``; overrides the
+        units of the table (needed when the file has none).
+    **options
+        Passed to :func:`identify_joint`.
+
+    Raises
+    ------
+    ModelError
+        A missing channel (listing the columns), an unknown or missing unit.
+    """
+    channels = dict(channels or {"A": "A", "B": "B", "C": "C"})
+    if set(channels) != {"A", "B", "C"}:
+        raise ModelError(f"channels must map exactly A, B and C to column names, got "
+                         f"{sorted(channels)}")
+    if "time" not in table:
+        raise ModelError("the signal table has no 'time' column")
+    table_units = dict(getattr(table, "units", {}) or {})
+    data = []
+    for role in ("A", "B", "C"):
+        col = channels[role]
+        if col not in table:
+            cols = [c for c in table if c != "time"]
+            raise ModelError(f"accelerometer {role}: no column {col!r} in the signals; "
+                             f"columns: {cols}")
+        if isinstance(units, str):
+            unit = units
+        elif units is not None and role in units:
+            unit = units[role]
+        else:
+            unit = table_units.get(col, "")
+        data.append(np.asarray(table[col], dtype=float) * acceleration_scale(unit,
+                                                                             channel=col))
+    source = options.pop("source", "") or str(getattr(table, "path", ""))
+    return identify_joint(table["time"], *data, geometry, source=source, **options)

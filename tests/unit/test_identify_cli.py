@@ -1,0 +1,150 @@
+"""``fricdamp identify`` (fricdamp.cli_identify): rig TOML, CSV and UFF input, outputs, errors.
+
+The numbers written must be the library's (identify_from_table on the same file); the input
+errors must exit with status 2 and one line naming the key or the file.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from fricdamp.analysis.identify import identify_from_table
+from fricdamp.analysis.signals import read_signals_csv
+from fricdamp.cli_identify import load_rig_file, main
+from fricdamp.contact import Jenkins
+from fricdamp.errors import CaseError
+from fricdamp.models.rotational_joint import RigParameters, RotationalJointRig
+
+RIG = """
+[rig]
+beam1_length_m = 0.200
+beam2_length_m = 0.200
+joint_offset_m = 0.009
+beam2_mass_kg = 0.4396
+sensor_mass_kg = 0.00994
+sensor_a_m = -0.090
+sensor_b_m = 0.0
+sensor_c_m = 0.090
+
+[channels]
+A = "acc_A"
+B = "acc_B"
+C = "acc_C"
+
+[processing]
+frequency_hz = 30.0
+periods = 6
+"""
+
+
+@pytest.fixture(scope="module")
+def response():
+    rig = RotationalJointRig(Jenkins(6e4, 0.13))
+    return rig.simulate(5.0, periods=12, steps_per_period=160)
+
+
+@pytest.fixture
+def files(tmp_path, response):
+    tab = response.accelerometers()
+    head = "time [s],acc_A [m/s^2],acc_B [m/s^2],acc_C [m/s^2]"
+    body = np.column_stack([tab[k] for k in ("time", "A", "B", "C")])
+    lines = [head] + [",".join(f"{x:.15e}" for x in row) for row in body]
+    sig = tmp_path / "signals.csv"
+    sig.write_text("\n".join(lines) + "\n")
+    rig = tmp_path / "rig.toml"
+    rig.write_text(RIG)
+    return sig, rig
+
+
+def test_rig_file_gives_the_paper_geometry(files):
+    _, rig = files
+    spec, geom = load_rig_file(rig)
+    ref = RigParameters().geometry()
+    assert geom == ref
+    assert spec.processing.periods == 6
+
+
+def test_identify_csv_writes_the_library_numbers(files, tmp_path, response, capsys):
+    sig, rig = files
+    out = tmp_path / "out"
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    spec, geom = load_rig_file(rig)
+    ref = identify_from_table(read_signals_csv(sig), geom,
+                              channels={"A": "acc_A", "B": "acc_B", "C": "acc_C"},
+                              frequency_hz=30.0, periods=6)
+    ident = summary["identification"]
+    assert ident["dissipated_energy_J"] == pytest.approx(ref.dissipated_energy, rel=1e-12)
+    assert ident["damping_ratio"] == pytest.approx(ref.damping_ratio, rel=1e-12)
+    # and it is the model's loop energy (closed loop; tolerance 1 %, see the validation test)
+    assert ident["dissipated_energy_J"] == pytest.approx(response.dissipated_energy(6),
+                                                         rel=0.01)
+    loop = np.loadtxt(out / "loop.csv", delimiter=",", skiprows=1)
+    assert loop.shape == (160, 3)
+    assert (out / "loop.png").stat().st_size > 1000
+    assert "dissipated energy" in capsys.readouterr().out
+
+
+def test_simulated_csv_round_trip(tmp_path, response):
+    """RigResponse.write_csv writes what read_signals_csv and the pipeline read (channels
+    A, B, C in m/s^2): the closed loop through files, within 1 %."""
+    path = tmp_path / "sim.csv"
+    response.write_csv(path)
+    tab = read_signals_csv(path)
+    assert tab.units["A"] == "m/s^2" and "force" in tab
+    ident = identify_from_table(tab, RigParameters().geometry(), frequency_hz=30.0, periods=6)
+    assert ident.dissipated_energy == pytest.approx(response.dissipated_energy(6), rel=0.01)
+
+
+def test_options_override_the_rig_file(files, tmp_path):
+    sig, rig = files
+    out = tmp_path / "o2"
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out), "--periods", "4",
+                 "--kinematics", "exact"]) == 0
+    ident = json.loads((out / "summary.json").read_text())["identification"]
+    assert ident["n_periods"] == 4 and ident["kinematics"] == "exact"
+
+
+def test_identify_uff(files, tmp_path, response):
+    pyuff = pytest.importorskip("pyuff")
+    _, rig = files
+    tab = response.accelerometers()
+    path = tmp_path / "signals.uff"
+    u = pyuff.UFF(str(path))
+    for i, (name, col) in enumerate((("acc_A", "A"), ("acc_B", "B"), ("acc_C", "C"))):
+        ds = pyuff.prepare_58(binary=1, func_type=1, rsp_node=i + 1, rsp_dir=1, ref_node=0,
+                              ref_dir=0, data=tab[col], x=tab["time"], id1=name,
+                              abscissa_spacing=1, abscissa_spec_data_type=17,
+                              ordinate_spec_data_type=12, orddenom_spec_data_type=0,
+                              ordinate_axis_units_lab="m/s^2", abscissa_axis_units_lab="s")
+        u.write_sets(ds, mode="add")  # a fresh file (pyuff's "overwrite" mangles 58b)
+    out = tmp_path / "uff_out"
+    assert main(["identify", str(path), "--rig", str(rig), "--out", str(out)]) == 0
+    ident = json.loads((out / "summary.json").read_text())["identification"]
+    assert ident["dissipated_energy_J"] == pytest.approx(response.dissipated_energy(6),
+                                                         rel=0.01)
+
+
+@pytest.mark.parametrize("edit, message", [
+    (("sensor_c_m = 0.090", "sensor_c_m = 0.090\nsensor_d_m = 0.0"), "unknown key 'sensor_d_m'"),
+    (("joint_offset_m = 0.009", "joint_offset_m = 0.2"), "joint_offset_m must be <"),
+    (("beam2_mass_kg = 0.4396", "beam2_mass_kg = -1.0"), "beam2_mass_kg"),
+    (("sensor_b_m = 0.0", "sensor_b_m = -0.090"), "must differ"),
+    (('C = "acc_C"', 'C = "acc_X"'), "no column 'acc_X'"),
+    (("frequency_hz = 30.0", "frequency_hz = 1000.0"), "samples per period"),
+])
+def test_bad_input_exits_2_with_one_line(files, tmp_path, capsys, edit, message):
+    sig, rig = files
+    rig.write_text(RIG.replace(*edit))
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+
+
+def test_missing_files(files, tmp_path, capsys):
+    sig, rig = files
+    assert main(["identify", str(tmp_path / "none.csv"), "--rig", str(rig)]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    with pytest.raises(CaseError, match="does not exist"):
+        load_rig_file(tmp_path / "none.toml")
