@@ -1,8 +1,9 @@
 """Every example case (examples/cases/*.toml) runs through the command line and gives the
 physics its description promises.
 
-Each case needs an entry in CHECKS: a function of the summary asserting at least one physical
-number against a reference computed independently here (closed form or eigen-analysis).
+Each case needs a check: a function of the summary asserting at least one physical number against
+a reference computed independently (closed form, eigen-analysis, a paper's stated result), either
+in CHECKS below or as ``check(summary, case)`` in ``tests/examples/check_<case name>.py``.
 """
 
 from __future__ import annotations
@@ -160,6 +161,20 @@ def check_beam_friction_frf(summary: dict, case: dict) -> None:
 
 
 CHECKS = {"jenkins_2dof": check_jenkins_2dof, "beam_friction_frf": check_beam_friction_frf}
+
+
+def _load_check_modules() -> None:
+    """Checks of the papers' cases live in tests/examples/check_<case name>.py (``check``)."""
+    import importlib.util
+
+    for f in sorted(Path(__file__).parent.glob("check_*.py")):
+        spec = importlib.util.spec_from_file_location(f"_example_{f.stem}", f)
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        CHECKS[f.stem[len("check_"):]] = mod.check
+
+
+_load_check_modules()
 
 
 @pytest.mark.parametrize("path", CASES, ids=[p.stem for p in CASES])
