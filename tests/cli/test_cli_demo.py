@@ -88,7 +88,7 @@ def _schemas():
     yield case_module.SolverSettings
     for table in (REGISTRY.models, REGISTRY.contacts, REGISTRY.analyses):
         for entry in table.values():
-            if entry.schema.__module__ == "fricdamp.case":
+            if entry.schema is not None and entry.schema.__module__.startswith("fricdamp."):
                 yield entry.schema
 
 
