@@ -220,6 +220,11 @@ class AnalysisOutput:
         One line for the terminal.
     notes : list of str
         Warnings for the user (shown on the terminal, in the report and in summary.json).
+    top_level : dict
+        JSON-able keys written at the top level of summary.json, next to the sections (a
+        paper's results contract: ``n_dof``, a list of sweeps). A key may not be one of the
+        summary's own keys nor the name of an analysis of the case; two analyses may give the
+        same key only with the same value.
     """
 
     summary: dict
@@ -227,6 +232,7 @@ class AnalysisOutput:
     figures: list | Callable = field(default_factory=list)
     headline: str = ""
     notes: list[str] = field(default_factory=list)
+    top_level: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -387,6 +393,7 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
         echo(f"  {name}: {out.headline}" if out.headline else f"  {name}: done")
         for note in out.notes:
             echo(f"  {name}: note: {note}")
+    top_level = _top_level_keys(outputs)
 
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -418,6 +425,7 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
     }
     for name, out in outputs.items():
         summary[name] = out.summary
+    summary.update(top_level)
     notes = [f"{name}: {n}" for name, out in outputs.items() for n in out.notes]
     if notes:
         summary["notes"] = notes
@@ -434,6 +442,24 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
     write_report(out_dir / "report.html", summary=summary, case_text=case.text,
                  figures=figures)
     return RunOutcome(out_dir=out_dir, summary=summary, files=files, outputs=outputs)
+
+
+def _top_level_keys(outputs: dict) -> dict:
+    """The analyses' ``top_level`` keys merged (ValueError for a reserved or clashing key)."""
+    from fricdamp.iofiles import to_jsonable
+
+    merged: dict = {}
+    for name, out in outputs.items():
+        for key, value in out.top_level.items():
+            if key in RESERVED_SUMMARY_KEYS or key in outputs:
+                raise ValueError(f"analysis {name!r}: top-level summary key {key!r} is "
+                                 "reserved (summary.json or an analysis section uses it)")
+            value = to_jsonable(value)
+            if key in merged and merged[key] != value:
+                raise ValueError(f"analysis {name!r}: top-level summary key {key!r} is set "
+                                 "by another analysis to a different value")
+            merged[key] = value
+    return merged
 
 
 def describe_system(system) -> dict:
