@@ -317,6 +317,12 @@ class Coulomb(ContactLaw):
         w = np.asarray(state, dtype=float)[:, 0]
         return 0.5 * self.stiffness * (u - w) ** 2
 
+    def dissipation(self, state_old, state_new, force_new) -> np.ndarray:
+        """Friction work ``f (w_new - w_old)`` [J]: the slider moves only while the force is on
+        the friction limit, so this is the energy the step dissipates."""
+        dw = np.asarray(state_new, float)[:, 0] - np.asarray(state_old, float)[:, 0]
+        return np.asarray(force_new, float).reshape(self.n_contacts) * dw
+
     def march(self, u_history, state=None, v_history=None):
         """Compiled march (see :meth:`ContactLaw.march`); ``v_history`` needed if decay > 0."""
         u3 = np.asarray(u_history, dtype=float)
