@@ -52,6 +52,8 @@ log = logging.getLogger(__name__)
 
 __all__ = [
     "REGISTRY",
+    "ModelObject",
+    "NotAMechanicalSystemError",
     "AnalysisOutput",
     "Entry",
     "BuildContext",
@@ -162,6 +164,33 @@ register_table = REGISTRY.register_table
 # tables of the design-study commands (fricdamp sweep / optimize check them themselves)
 register_table("sweep")
 register_table("optimize")
+
+
+class NotAMechanicalSystemError(CaseError, AttributeError):
+    """An analysis asked a paper's model object for what only a MechanicalSystem has."""
+
+
+class ModelObject:
+    """Base of the model objects of the papers' systems (``[model]`` builders may return one).
+
+    A model object has ``n_dof``, ``names`` and ``describe() -> dict`` (shown under
+    ``model`` in summary.json); its contacts are part of the model. The generic analyses,
+    which need a MechanicalSystem, get a :class:`NotAMechanicalSystemError` naming the
+    analyses that do apply (``MODEL_DESCRIPTION`` and ``MODEL_ANALYSES``), i.e. exit code 2.
+    """
+
+    MODEL_TYPE = "model"
+    MODEL_DESCRIPTION = "a paper's model"
+    MODEL_ANALYSES = ""
+
+    def __getattr__(self, name: str):
+        # only called for attributes that do not exist: the generic analyses asking for a
+        # MechanicalSystem's (with_loads, contacts, M, ...)
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise NotAMechanicalSystemError(
+            f"the {self.MODEL_TYPE!r} model is {self.MODEL_DESCRIPTION}, not a MechanicalSystem "
+            f"(it has no {name!r}): its analyses are {self.MODEL_ANALYSES}")
 
 
 @dataclass(frozen=True)

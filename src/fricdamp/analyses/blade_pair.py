@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, field_validator, model_validator
@@ -41,6 +41,8 @@ from fricdamp.errors import CaseError
 from fricdamp.runner import (
     AnalysisOutput,
     BuildContext,
+    ModelObject,
+    NotAMechanicalSystemError,
     RunContext,
     register_analysis,
     register_model,
@@ -239,10 +241,6 @@ def blade_pair_parameters(spec: BladePairSpec):
         min_slip=spec.min_slip_m)
 
 
-class NotAMechanicalSystemError(CaseError, AttributeError):
-    """An analysis asked the paper-001 model for what only a MechanicalSystem has."""
-
-
 def _frequencies(K: np.ndarray, M: np.ndarray) -> np.ndarray:
     import scipy.linalg as sla
 
@@ -251,7 +249,7 @@ def _frequencies(K: np.ndarray, M: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class BladePairCaseModel:
+class BladePairCaseModel(ModelObject):
     """The model object of ``[model] type = "blade_pair"``.
 
     Attributes
@@ -261,15 +259,9 @@ class BladePairCaseModel:
     """
 
     model: Any
-
-    def __getattr__(self, name: str):
-        # only called for attributes that do not exist: the generic analyses asking for a
-        # MechanicalSystem's (with_loads, contacts, M, ...)
-        if name.startswith("_"):
-            raise AttributeError(name)
-        raise NotAMechanicalSystemError(
-            f"the {MODEL_TYPE!r} model is paper 001's two blades with a wedge, not a "
-            f"MechanicalSystem (it has no {name!r}): its analyses are {_ANALYSES}")
+    MODEL_TYPE: ClassVar[str] = MODEL_TYPE
+    MODEL_DESCRIPTION: ClassVar[str] = "paper 001's two blades with a wedge"
+    MODEL_ANALYSES: ClassVar[str] = _ANALYSES
 
     @property
     def n_dof(self) -> int:

@@ -36,6 +36,8 @@ from fricdamp.errors import CaseError, ModelError
 from fricdamp.runner import (
     AnalysisOutput,
     BuildContext,
+    ModelObject,
+    NotAMechanicalSystemError,
     RunContext,
     register_analysis,
     register_model,
@@ -153,12 +155,8 @@ class RotationalJointRigModel(Section):
         return self
 
 
-class NotAMechanicalSystemError(CaseError, AttributeError):
-    """An analysis asked the paper-002 model for what only a MechanicalSystem has."""
-
-
 @dataclass(frozen=True)
-class JointRigModel:
+class JointRigModel(ModelObject):
     """The model object of ``[model] type = "rotational_joint_rig"``.
 
     Attributes
@@ -178,15 +176,9 @@ class JointRigModel:
     rig_joint: Any
     n_dof: ClassVar[int] = 3
     names: ClassVar[tuple[str, ...]] = ("theta1", "theta2", "x1")
-
-    def __getattr__(self, name: str):
-        # only called for attributes that do not exist: the generic analyses asking for a
-        # MechanicalSystem's (with_loads, contacts, M, ...)
-        if name.startswith("_"):
-            raise AttributeError(name)
-        raise NotAMechanicalSystemError(
-            f"the {MODEL_TYPE!r} model is paper 002's test structure, not a MechanicalSystem "
-            f"(it has no {name!r}): its analyses are {_ANALYSES}")
+    MODEL_TYPE: ClassVar[str] = MODEL_TYPE
+    MODEL_DESCRIPTION: ClassVar[str] = "paper 002's test structure"
+    MODEL_ANALYSES: ClassVar[str] = _ANALYSES
 
     def rig(self):
         """The :class:`~fricdamp.models.rotational_joint.RotationalJointRig` with ``rig_joint``."""
