@@ -16,7 +16,8 @@ from fricdamp.structure import ContactElement, HarmonicLoad, chain
 
 def test_newmark_discrete_solution_exact():
     """Average-acceleration Newmark on x'' + w^2 x = 0 gives x_n = cos(n Phi) exactly with
-    cos(Phi) = (1 - (wh/2)^2) / (1 + (wh/2)^2) (e.g. Hughes, The FEM, 9.3). Round-off only: 1e-12."""
+    cos(Phi) = (1 - (wh/2)^2) / (1 + (wh/2)^2) (e.g. Hughes, The FEM, 9.3).
+    Round-off only: 1e-12."""
     w, h = 2 * np.pi * 3.0, 0.01
     res = simulate(chain([2.0], [2.0 * w**2]), 2.0, h, q0=[1.0])
     r = (w * h / 2) ** 2
@@ -178,3 +179,19 @@ def test_energy_balance_with_velocity_dependent_coulomb():
     res = simulate(sys_, 20 * T, T / 1000)
     assert res.energy["contact_dissipation"][-1] > 0.2 * res.energy["input_work"][-1]
     assert res.energy_balance_error < 5e-3
+
+
+def test_restart_from_states_equals_one_run():
+    """A run split in two, the second started from the first's final displacement, velocity
+    and contact states (``states0``), equals the uninterrupted run (Newmark is one-step, so
+    only the stored acceleration differs: recomputed from equilibrium, it is the same)."""
+    s = _jenkins_2dof(loads=[HarmonicLoad([0.0, 3.0], 25.0)])
+    full = simulate(s, 0.4, 1e-3)
+    first = simulate(s, 0.2, 1e-3)
+    # final contact state of the first run: replay its contact history from virgin
+    law = s.contacts[0].law
+    _, st = law.march(first.contact_displacement[0])
+    second = simulate(s, 0.4, 1e-3, t0=0.2, q0=first.q[-1], v0=first.v[-1], states0=[st])
+    np.testing.assert_allclose(second.q[-1], full.q[-1], rtol=1e-8, atol=1e-12)
+    with pytest.raises(ModelError, match="states0"):
+        simulate(s, 0.4, 1e-3, states0=[])

@@ -249,7 +249,7 @@ class _Factor:
 
 
 def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=None,
-             t0: float = 0.0, method: str = "newmark", alpha: float = -0.05,
+             t0: float = 0.0, states0=None, method: str = "newmark", alpha: float = -0.05,
              save_every: int = 1, tol: float = 1e-10, max_iter: int = 30,
              progress: bool | None = None, throw: bool = True) -> TimeResult:
     """Integrate ``system`` from ``t0`` to ``t_end`` with a constant step ``dt``.
@@ -261,10 +261,14 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
     t_end, dt : float
         End time and time step [s]; ``dt > 0``, ``t_end > t0``.
     q0, v0 : array_like, shape (n_dof,), optional
-        Initial displacement [m] and velocity [m/s] (default zero). Contacts start in their
-        virgin state and are first loaded to ``q0``.
+        Initial displacement [m] and velocity [m/s] (default zero). Contacts start in
+        ``states0`` (default virgin) and are first loaded to ``q0``.
     t0 : float
         Start time [s].
+    states0 : sequence of ndarray, optional
+        Initial states of the contact elements, one ``(n_contacts, n_state)`` array per
+        element (e.g. the final states of a static solution or of an earlier run); default
+        the virgin states.
     method : {"newmark", "hht"}
         Newmark average acceleration, or HHT-alpha with numerical damping of high frequencies.
     alpha : float
@@ -315,18 +319,30 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
         if x.shape != (n,) or not np.all(np.isfinite(x)):
             raise ModelError(f"{name} must be a finite vector of length {n}")
 
+    if states0 is not None:
+        states0 = list(states0)
+        if len(states0) != len(system.contacts):
+            raise ModelError(f"states0 must have one state array per contact element "
+                             f"({len(system.contacts)}), got {len(states0)}")
+        for c, st in zip(system.contacts, states0, strict=True):
+            shape = c.law.initial_state().shape
+            if np.shape(st) != shape:
+                raise ModelError(f"states0 of contact {c.name!r} must have shape {shape}, got "
+                                 f"{np.shape(st)}")
+        states0 = [np.array(st, dtype=float) for st in states0]
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
     start = time.perf_counter()
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
         out = _integrate(system, q, v, t0, dt, n_steps, alpha, save_every, tol, max_iter,
-                         _progress_default() if progress is None else progress, throw)
+                         _progress_default() if progress is None else progress, throw, states0)
     object.__setattr__(out, "runtime_s", time.perf_counter() - start)
     return out
 
 
-def _integrate(system, q, v, t0, h, n_steps, alpha, save_every, tol, max_iter, progress, throw):
+def _integrate(system, q, v, t0, h, n_steps, alpha, save_every, tol, max_iter, progress, throw,
+               states0=None):
     M, D, K = system.M, system.D, system.K
     beta = (1.0 - alpha) ** 2 / 4.0
     gamma = 0.5 - alpha
@@ -348,7 +364,7 @@ def _integrate(system, q, v, t0, h, n_steps, alpha, save_every, tol, max_iter, p
         eye = np.eye(m)
 
     # initial contact state and acceleration
-    states = system.initial_states()
+    states = system.initial_states() if states0 is None else states0
     u = np.asarray(P @ q) if m else np.zeros(0)
     uv = np.asarray(P @ v) if m else np.zeros(0)
     if m:
