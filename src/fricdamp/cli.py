@@ -96,12 +96,16 @@ def _out(msg: str) -> None:
 
 
 def _describe(case, system) -> str:
-    ncont = sum(c.n_contacts for c in getattr(system, "contacts", ()))
-    laws = sorted({t for t, _ in case.contacts})
-    return (f"case {case.name!r}: {case.model_type} model with {system.n_dof} DOF"
-            f"{'s' if system.n_dof != 1 else ''}, {ncont} contact{'s' if ncont != 1 else ''}"
-            + (f" ({', '.join(laws)})" if laws else "")
-            + f"; analyses: {', '.join(case.analyses)}")
+    from fricdamp.structure.system import MechanicalSystem
+
+    head = (f"case {case.name!r}: {case.model_type} model with {system.n_dof} DOF"
+            f"{'s' if system.n_dof != 1 else ''}")
+    if isinstance(system, MechanicalSystem):
+        ncont = sum(c.n_contacts for c in system.contacts)
+        laws = sorted({t for t, _ in case.contacts})
+        head += (f", {ncont} contact{'s' if ncont != 1 else ''}"
+                 + (f" ({', '.join(laws)})" if laws else ""))
+    return head + f"; analyses: {', '.join(case.analyses)}"
 
 
 def _run(case, out_dir: Path, args) -> int:
