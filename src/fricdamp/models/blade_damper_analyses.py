@@ -1,0 +1,881 @@
+"""Analyses of the paper-000 blade-damper model: pull-off, eigenfrequencies, time response, design.
+
+* :func:`stuck_eigenfrequencies`, :func:`sliding_eigenfrequencies` -- the fully stuck 3-DOF
+  system (000 (4), (22)) and the frictionless 5-DOF linearisation at the static state.
+* :func:`pulloff_curve`, :func:`pulloff_curves` -- the pull-off amplitude ``F_e,limit`` vs
+  excitation frequency (000 Figs 9-11) in closed form from the stuck system's linear
+  constraint-force response; :func:`confirm_pulloff` checks a point with event-driven runs
+  just below and just above the limit.
+* :func:`time_response` -- event-driven histories, contact configurations and the phase plot
+  of the blade (000 Fig. 8).
+* :func:`steady_state_amplitude`, :func:`resonance_amplitude`, :func:`design_study` -- the
+  steady blade amplitude q4 and the damper design study over damper mass, gamma and parabola
+  (000 Fig. 12).
+
+Pull-off in closed form
+-----------------------
+While both contacts stick the model is exactly linear (:meth:`BladeDamperSystem.stuck_system`):
+the contact forces are ``lambda(t) = lambda_0 + F_e Re(Lambda exp(i Omega t))`` with the static
+forces ``lambda_0`` (``lambda_N0 = F_Z / (2 sin gamma)``, ``lambda_T0 = 0``) and the complex
+response ``Lambda`` per unit excitation amplitude, found from ``W Lambda = M Q'' - h_hat`` with
+the stuck steady state ``Q``. Contact i starts slipping when ``|lambda_T,i| = mu_static
+lambda_N,i`` (000 (43)); maximising over the phase gives
+
+    F_e,limit,i = min((mu N0 - T0) / |Lambda_T - mu Lambda_N|,
+                      (mu N0 + T0) / |Lambda_T + mu Lambda_N|)
+
+and ``F_e,limit = min_i F_e,limit,i``. The normal force of contact i would reach zero at
+``F_e = N0 / |Lambda_N,i|``; a pull-off limit above that is flagged (the no-separation
+assumption fails first).
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.models.blade_damper import BladeDamperParameters, BladeDamperSystem
+
+log = logging.getLogger(__name__)
+
+__all__ = [
+    "CONFIGURATIONS",
+    "DesignStudy",
+    "default_design_band",
+    "PulloffCheck",
+    "PulloffCurve",
+    "SteadyState",
+    "TimeResponse",
+    "configuration_codes",
+    "confirm_pulloff",
+    "design_study",
+    "pulloff_curve",
+    "pulloff_curves",
+    "resonance_amplitude",
+    "sliding_eigenfrequencies",
+    "steady_state_amplitude",
+    "stuck_constraint_forces",
+    "stuck_eigenfrequencies",
+    "stuck_steady_state",
+    "time_response",
+]
+
+#: Names of the four configurations, indexed by :func:`configuration_codes` (000 (1)-(4)).
+CONFIGURATIONS = ("stick/stick", "stick/slip", "slip/stick", "slip/slip")
+
+
+def _system(params) -> BladeDamperSystem:
+    if isinstance(params, BladeDamperSystem):
+        return params
+    if params is None:
+        params = BladeDamperParameters()
+    if not isinstance(params, BladeDamperParameters):
+        raise ModelError(f"params must be BladeDamperParameters, got {type(params).__name__}")
+    return BladeDamperSystem(params)
+
+
+def _frequencies(name, value) -> np.ndarray:
+    f = np.atleast_1d(as_finite_array(name, value)).astype(float)
+    if f.ndim != 1 or f.size == 0 or np.any(f <= 0):
+        raise ModelError(f"{name} must be a non-empty 1D array of frequencies > 0 Hz, "
+                         f"got {value!r}")
+    return f
+
+
+# ===================================================================== eigenfrequencies
+def stuck_eigenfrequencies(params=None) -> np.ndarray:
+    """Undamped eigenfrequencies [Hz] (3,) of the fully stuck system, 000 (4), (22)."""
+    return _system(params).stuck_system().eigenfrequencies()
+
+
+def sliding_eigenfrequencies(params=None) -> np.ndarray:
+    """Undamped eigenfrequencies [Hz] (5,) of the frictionless linearisation at the static
+    state (both contacts sliding freely, 000 (1)); NaN marks an unstable damper rocking mode."""
+    return _system(params).sliding_system().eigenfrequencies()
+
+
+# ===================================================================== pull-off
+def _unit_phasor(system: BladeDamperSystem) -> np.ndarray:
+    p = system.params
+    F = np.zeros(7, dtype=complex)
+    F[1] = 1.0
+    F[3] = p.excitation_ratio * np.exp(1j * p.excitation_phase)
+    return F
+
+
+def stuck_constraint_forces(params, frequency_hz):
+    """Complex contact-force response of the stuck system per unit excitation amplitude.
+
+    Parameters
+    ----------
+    params : BladeDamperParameters or BladeDamperSystem
+    frequency_hz : array_like, shape (n_f,)
+        Excitation frequencies [Hz].
+
+    Returns
+    -------
+    dict
+        ``Lambda_N``, ``Lambda_T`` : complex ndarray (n_f, 2) [N/N]; ``Q`` : complex ndarray
+        (n_f, 7) [m/N] (stuck steady-state amplitude); ``lambda_N0``, ``lambda_T0`` : ndarray
+        (2,) [N] static contact forces; ``residual`` : float, relative residual of the
+        over-determined force balance (0 up to round-off: a consistency check).
+    """
+    s = _system(params)
+    f = _frequencies("frequency_hz", frequency_hz)
+    st = s.static_equilibrium()
+    L = s.stuck_system()
+    q = st.q
+    W = np.hstack([s.normal_jacobian(q), s.tangent_jacobian(q)])  # (7, 4)
+    h0 = s.h(0.0, q, np.zeros(7)) - s.excitation(0.0)
+    lam0 = np.linalg.lstsq(W, -h0, rcond=None)[0]
+    F = _unit_phasor(s)
+    w = 2 * np.pi * f
+    A = (L.K[None] - w[:, None, None] ** 2 * L.M[None] + 1j * w[:, None, None] * L.D[None])
+    Z = np.linalg.solve(A, np.broadcast_to(L.T.T @ F, (f.size, 3))[..., None])[..., 0]
+    Q = Z @ L.T.T  # (n_f, 7)
+    # M Q'' = h_hat + W Lambda,  h_hat = F - K Q - i w D Q
+    rhs = (-(w**2)[:, None] * (Q @ s.M.T) - (F[None] - Q @ s.K.T - 1j * w[:, None] * (Q @ s.D.T)))
+    Wp = np.linalg.pinv(W)
+    lam = rhs @ Wp.T  # (n_f, 4)
+    res = np.abs(lam @ W.T - rhs).max() / max(np.abs(rhs).max(), 1e-300)
+    return {"Lambda_N": lam[:, :2], "Lambda_T": lam[:, 2:], "Q": Q, "lambda_N0": lam0[:2],
+            "lambda_T0": lam0[2:], "residual": float(res)}
+
+
+@dataclass(frozen=True)
+class PulloffCurve:
+    """Pull-off amplitude vs excitation frequency (000 Figs 9-11).
+
+    Attributes
+    ----------
+    gamma_deg : float
+        Block angle [degrees].
+    F_Z_N : float
+        Centrifugal force [N].
+    frequency_hz : ndarray, shape (n_f,)
+        Excitation frequencies [Hz].
+    F_e_limit_N : ndarray, shape (n_f,)
+        Smallest excitation amplitude [N] at which a contact starts to slip.
+    slip_contact : ndarray of int, shape (n_f,)
+        Contact that slips first (1 = K1, 2 = K2).
+    separation_limit_N : ndarray, shape (n_f,)
+        Excitation amplitude [N] at which a normal force of the stuck system would reach 0.
+    normal_force_ok : ndarray of bool, shape (n_f,)
+        True where slip starts before any normal force vanishes (the model is valid at the
+        pull-off point).
+    stuck_eigenfrequencies_hz : ndarray, shape (3,)
+        Eigenfrequencies of the fully stuck system [Hz].
+    """
+
+    gamma_deg: float
+    F_Z_N: float
+    frequency_hz: np.ndarray
+    F_e_limit_N: np.ndarray
+    slip_contact: np.ndarray
+    separation_limit_N: np.ndarray
+    normal_force_ok: np.ndarray
+    stuck_eigenfrequencies_hz: np.ndarray
+
+    def to_dict(self) -> dict:
+        """Plain-Python dict (results contract of the ``pulloff`` analysis)."""
+        return {
+            "gamma_deg": float(self.gamma_deg), "F_Z_N": float(self.F_Z_N),
+            "frequency_hz": self.frequency_hz.tolist(),
+            "F_e_limit_N": self.F_e_limit_N.tolist(),
+            "stuck_eigenfrequencies_hz": self.stuck_eigenfrequencies_hz.tolist(),
+            "slip_contact": self.slip_contact.tolist(),
+            "normal_force_ok": self.normal_force_ok.tolist(),
+        }
+
+
+def pulloff_curve(params=None, frequency_hz=None) -> PulloffCurve:
+    """Pull-off amplitude ``F_e,limit`` vs frequency, closed form per frequency.
+
+    Parameters
+    ----------
+    params : BladeDamperParameters, optional
+        Model (``excitation_amplitude`` and ``excitation_frequency`` are ignored; ratio and
+        phase of F_E2 are used).
+    frequency_hz : array_like, shape (n_f,), optional
+        Excitation frequencies [Hz]; default 10-250 Hz in 961 steps.
+
+    Returns
+    -------
+    PulloffCurve
+
+    References
+    ----------
+    000 section 3.1 and Figs 9-11; switching condition 000 (43).
+    """
+    s = _system(params)
+    p = s.params
+    f = _frequencies("frequency_hz", np.linspace(10.0, 250.0, 961) if frequency_hz is None
+                     else frequency_hz)
+    r = stuck_constraint_forces(s, f)
+    LN, LT = r["Lambda_N"], r["Lambda_T"]
+    N0, T0 = r["lambda_N0"], r["lambda_T0"]
+    mu = p.mu_static
+    with np.errstate(divide="ignore"):
+        f_plus = (mu * N0 - T0)[None] / np.abs(LT - mu * LN)
+        f_minus = (mu * N0 + T0)[None] / np.abs(LT + mu * LN)
+        lim_c = np.minimum(f_plus, f_minus)  # (n_f, 2)
+        sep_c = N0[None] / np.abs(LN)
+    k = np.argmin(lim_c, axis=1)
+    lim = lim_c[np.arange(f.size), k]
+    sep = sep_c.min(axis=1)
+    return PulloffCurve(gamma_deg=p.gamma_deg, F_Z_N=p.centrifugal_force, frequency_hz=f,
+                        F_e_limit_N=lim, slip_contact=k + 1, separation_limit_N=sep,
+                        normal_force_ok=lim < sep,
+                        stuck_eigenfrequencies_hz=s.stuck_system().eigenfrequencies())
+
+
+def pulloff_curves(params=None, gammas_deg: Sequence[float] = (40.0, 50.0, 60.0),
+                   centrifugal_forces_N: Sequence[float] = (60.0, 100.0, 140.0),
+                   frequency_hz=None) -> list[dict]:
+    """Pull-off curves for every (gamma, F_Z) pair (000 Figs 9-11), as plain dicts.
+
+    Returns
+    -------
+    list of dict
+        One :meth:`PulloffCurve.to_dict` per pair, gamma-major order.
+    """
+    base = _system(params).params
+    out = []
+    for g in gammas_deg:
+        for fz in centrifugal_forces_N:
+            pp = base.with_(gamma_deg=float(g), centrifugal_force=float(fz))
+            out.append(pulloff_curve(pp, frequency_hz).to_dict())
+    return out
+
+
+# ===================================================================== time response
+def configuration_codes(modes) -> np.ndarray:
+    """Configuration index (into :data:`CONFIGURATIONS`) from contact modes (n_t, 2).
+
+    0 stick/stick (3 DOF), 1 stick K1 / slip K2, 2 slip K1 / stick K2, 3 slip/slip (5 DOF).
+    """
+    m = np.asarray(modes)
+    return (2 * (m[:, 0] != 0) + (m[:, 1] != 0)).astype(int)
+
+
+def stuck_steady_state(params, t: float = 0.0):
+    """State ``(q, q')`` (7,), (7,) of the stuck periodic steady state at time ``t`` [s].
+
+    The linear stuck response to ``F_e`` at ``params.excitation_frequency`` superposed on the
+    static state; valid (no slip) when ``F_e`` is below the pull-off amplitude.
+    """
+    s = _system(params)
+    p = s.params
+    r = stuck_constraint_forces(s, [p.excitation_frequency])
+    Q = r["Q"][0] * p.excitation_amplitude
+    e = np.exp(1j * p.omega * t)
+    q = s.static_equilibrium().q + (Q * e).real
+    qd = (1j * p.omega * Q * e).real
+    return q, qd
+
+
+@dataclass(frozen=True)
+class TimeResponse:
+    """Event-driven response of the blade-damper model.
+
+    Attributes
+    ----------
+    result : fricdamp.solvers.event.EventResult
+        Full solver output (t, q, qd (n_t, 7), lambda_N, lambda_T, modes (n_t, 2), events,
+        energy).
+    configuration : ndarray of int, shape (n_t,)
+        Index into :data:`CONFIGURATIONS` at each sample.
+    time_in_configuration : dict of str -> float
+        Time [s] spent in each configuration.
+    min_normal_force : float
+        Smallest normal force [N] of the run.
+    errors : tuple of str
+        Violated model assumptions (a negative normal force means the damper would lift off,
+        which this model excludes as the paper does), solver failures.
+    """
+
+    result: object
+    configuration: np.ndarray
+    time_in_configuration: dict
+    min_normal_force: float
+    errors: tuple[str, ...] = ()
+    meta: dict = field(default_factory=dict, compare=False)
+
+    @property
+    def ok(self) -> bool:
+        """True when the run finished and no normal force became negative."""
+        return not self.errors
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.result.t
+
+    def phase_plot(self, dof: int = 3, last_periods: float | None = None):
+        """``(t, q, q')`` of one coordinate (default q4, index 3) for a phase plot (000 Fig. 8),
+        optionally only the last ``last_periods`` excitation periods."""
+        r = self.result
+        sel = np.ones(r.t.size, dtype=bool)
+        if last_periods is not None:
+            T = 1.0 / self.meta["excitation_frequency"]
+            sel = r.t >= r.t[-1] - last_periods * T
+        return r.t[sel], r.q[sel, dof], r.qd[sel, dof]
+
+
+def time_response(params=None, periods: float = 20.0, *, y0=None, t_start: float = 0.0,
+                  samples_per_period: int = 200, rtol: float = 1e-8, atol: float = 1e-12,
+                  max_events: int = 100_000, throw: bool = False) -> TimeResponse:
+    """Event-driven response from the static state (or ``y0``) over ``periods`` periods.
+
+    Parameters
+    ----------
+    params : BladeDamperParameters or BladeDamperSystem
+    periods : float
+        Duration in excitation periods (> 0).
+    y0 : array_like, shape (14,), optional
+        Initial ``[q, q']``; default: the frictionless static state at rest.
+    t_start : float
+        Start time [s] (the excitation is ``cos(Omega t)``, so this sets its phase).
+    samples_per_period : int
+        Output samples per period (event times are added).
+    rtol, atol : float
+        DOP853 tolerances of the solver.
+    max_events : int
+        Event budget.
+    throw : bool
+        Raise on solver failure (default False: failure recorded in ``errors``).
+
+    Returns
+    -------
+    TimeResponse
+    """
+    s = _system(params)
+    p = s.params
+    if not periods > 0:
+        raise ModelError(f"periods must be > 0, got {periods!r}")
+    if int(samples_per_period) < 4:
+        raise ModelError(f"samples_per_period must be >= 4, got {samples_per_period!r}")
+    T = 1.0 / p.excitation_frequency
+    t0 = float(t_start)
+    t1 = t0 + periods * T
+    if y0 is None:
+        y0 = np.concatenate([s.static_equilibrium().q, np.zeros(7)])
+    n = int(np.ceil(periods * samples_per_period)) + 1
+    res = _simulate(s, t0, t1, as_finite_array("y0", y0), np.linspace(t0, t1, n), rtol=rtol,
+                    atol=atol, max_events=max_events)
+    if throw and not res.success:
+        raise ConvergenceError(res.message)
+    return _wrap(res, p)
+
+
+_FAIL_TIME = re.compile(r"at t = ([-+0-9.eE]+) s")
+
+
+def _project_stuck(system: BladeDamperSystem, q, qd, stuck):
+    """M-orthogonal projection of q' onto ``W_N^T q' = 0`` and ``W_T,i^T q' = 0`` (i stuck)."""
+    WN, WT, _, _ = system.kinematics(q, qd)
+    W = np.hstack([WN, WT[:, np.asarray(stuck, dtype=bool)]])
+    MiW = (1.0 / np.diag(system.M))[:, None] * W
+    return qd - MiW @ np.linalg.solve(W.T @ MiW, W.T @ qd)
+
+
+def _simulate(system: BladeDamperSystem, t0, t1, y0, t_eval, *, rtol, atol, max_events,
+              max_restarts: int = 100):
+    """:func:`~fricdamp.solvers.event.simulate_events` with restarts after round-off stalls.
+
+    The DOP853 phases of the event solver let the slip velocity of a stuck contact drift by
+    ~1e-12 of the velocity scale; when that contact then starts slipping, the drift can have
+    the wrong sign and the solver's slip-reversal test (threshold 100 eps) fires at once, over
+    and over ("chattering ... without time advancing"), or no configuration passes its
+    consistency check. Such a run is restarted from its last stored sample (before the
+    stall) with the velocities of the stuck contacts projected back onto their constraints
+    (kinetic-energy change ~1e-17 J, summed in ``meta["restart_energy"]``); the restarts are
+    counted in ``meta["restarts"]``. A failure that recurs without progress is returned as a
+    failed result.
+    """
+    from fricdamp.solvers.event import simulate_events
+
+    parts = []
+    restarts: list[float] = []
+    n = system.n_dof
+    ts, y = float(t0), np.asarray(y0, dtype=float)
+    # a state that ended a previous run in stick carries the same ~1e-12 drift: put it back
+    q, qd = y[:n], y[n:]
+    WT = system.tangent_jacobian(q)
+    small = np.abs(WT.T @ qd) <= 1e-9 * (np.abs(WT).T @ np.abs(qd))
+    qd_new = _project_stuck(system, q, qd, small)
+    de = abs(system.kinetic_energy(qd) - system.kinetic_energy(qd_new))
+    y = np.concatenate([q, qd_new])
+    while True:
+        te = t_eval[(t_eval >= ts) & (t_eval <= t1)]
+        r = simulate_events(system, (ts, t1), y, t_eval=te, rtol=rtol, atol=atol,
+                            max_events=max_events, throw=False)
+        m = _FAIL_TIME.search(r.message) if r.status == -1 else None
+        if r.success or m is None or len(restarts) >= max_restarts:
+            parts.append((r, False))
+            break
+        if r.t.size > 1 and r.t[-1] > ts:
+            parts.append((r, True))  # its last sample is the next run's first
+        else:  # stalled before the first stored sample: rerun up to just before the stall
+            te_ = ts + (1 - 1e-6) * (float(m.group(1)) - ts)
+            r2 = None
+            if te_ > ts:
+                try:
+                    r2 = simulate_events(system, (ts, te_), y, t_eval=np.array([ts, te_]),
+                                         rtol=rtol, atol=atol, max_events=max_events,
+                                         throw=False)
+                except (ConvergenceError, IndexError, ValueError) as exc:  # solver edge case
+                    log.info("rerun before the stall failed: %s", exc)
+            if r2 is None or not r2.success or r2.t[-1] <= ts:
+                parts.append((r, False))
+                break
+            r = r2
+            parts.append((r, True))
+        q, qd = r.q[-1], r.qd[-1]
+        qd_new = _project_stuck(system, q, qd, r.modes[-1] == 0)
+        de += abs(system.kinetic_energy(qd) - system.kinetic_energy(qd_new))
+        log.info("event solver stalled (%s); restarted at t = %.17g s", r.message, r.t[-1])
+        restarts.append(float(r.t[-1]))
+        ts, y = float(r.t[-1]), np.concatenate([q, qd_new])
+    res = parts[0][0] if len(parts) == 1 else _merge(parts)
+    res.meta["restarts"] = len(restarts)
+    res.meta["restart_times"] = restarts
+    res.meta["restart_energy"] = de
+    return res
+
+
+def _merge(parts):
+    """Concatenate EventResults of consecutive runs ``[(result, drop_last_sample), ...]``
+    (cumulative energies continued)."""
+    from dataclasses import replace
+
+    cum = ("input_work", "friction_dissipation", "viscous_dissipation")
+    energy = {k: [] for k in parts[0][0].energy}
+    off = dict.fromkeys(cum, 0.0)
+    keep = []
+    for r, drop in parts:
+        sl = slice(0, r.t.size - 1 if drop else r.t.size)
+        keep.append(sl)
+        for k, v in r.energy.items():
+            energy[k].append((v + off[k] if k in cum else v)[sl])
+        for k in cum:
+            if r.energy[k].size:
+                off[k] = off[k] + r.energy[k][-1]
+    cat = {k: np.concatenate([getattr(r, k)[sl] for (r, _), sl in zip(parts, keep,
+                                                                      strict=True)])
+           for k in ("t", "q", "qd", "lambda_N", "lambda_T", "modes")}
+    counters = {k: sum(getattr(r, k) for r, _ in parts) for k in
+                ("n_events", "n_phases", "n_decisions", "n_rhs", "n_expm", "n_singular",
+                 "projection_energy", "runtime_s")}
+    return replace(parts[-1][0], **cat, events=tuple(e for r, _ in parts for e in r.events),
+                   energy={k: np.concatenate(v) for k, v in energy.items()}, **counters,
+                   meta={})
+
+
+def _wrap(res, p) -> TimeResponse:
+    errors = []
+    if not res.success:
+        errors.append(f"solver: {res.message}")
+    minN = float(res.lambda_N.min()) if res.lambda_N.size else float("nan")
+    if minN < 0:
+        i = int(np.argmin(res.lambda_N.min(axis=1)))
+        errors.append(f"negative normal force {minN:.4g} N at t = {res.t[i]:.6g} s: the damper "
+                      "would lift off, which this no-separation model excludes")
+    conf = configuration_codes(res.modes)
+    dt = np.diff(res.t)
+    tic = {name: float(dt[conf[:-1] == k].sum()) for k, name in enumerate(CONFIGURATIONS)}
+    return TimeResponse(result=res, configuration=conf, time_in_configuration=tic,
+                        min_normal_force=minN, errors=tuple(errors),
+                        meta={"excitation_frequency": p.excitation_frequency,
+                              "excitation_amplitude": p.excitation_amplitude,
+                              "restarts": res.meta.get("restarts", 0)})
+
+
+# ===================================================================== pull-off check
+@dataclass(frozen=True)
+class PulloffCheck:
+    """Event-driven check of one pull-off point.
+
+    Attributes
+    ----------
+    frequency_hz, F_e_limit_N : float
+        The point and its closed-form limit [Hz, N].
+    amplitudes_N : tuple of float
+        Excitation amplitudes run (below, above) [N].
+    slipped : tuple of bool
+        Whether any contact left stick during each run.
+    first_slip_time_s : tuple of float
+        Time of the first slip event (NaN if none) [s].
+    min_reserve_N : tuple of float
+        Smallest friction reserve ``mu_static lambda_N - |lambda_T|`` over each run [N].
+    """
+
+    frequency_hz: float
+    F_e_limit_N: float
+    amplitudes_N: tuple[float, float]
+    slipped: tuple[bool, bool]
+    first_slip_time_s: tuple[float, float]
+    min_reserve_N: tuple[float, float]
+
+    @property
+    def confirmed(self) -> bool:
+        """True when the run below never slipped and the run above did."""
+        return (not self.slipped[0]) and self.slipped[1]
+
+
+def confirm_pulloff(params, frequency_hz: float, *, margin: float = 0.02,
+                    periods: float = 2.0, rtol: float = 1e-9) -> PulloffCheck:
+    """Check the closed-form pull-off amplitude with event-driven runs.
+
+    Both runs start on the stuck periodic steady state of their amplitude (no transient), at
+    ``F_e = (1 - margin) F_e,limit`` and ``(1 + margin) F_e,limit``, for ``periods`` periods.
+    Below the limit no contact may ever slip; above it one must.
+    """
+    s = _system(params)
+    if not 0 < margin < 1:
+        raise ModelError(f"margin must lie in (0, 1), got {margin!r}")
+    f = float(frequency_hz)
+    lim = float(pulloff_curve(s, [f]).F_e_limit_N[0])
+    amps, slipped, first, reserve = [], [], [], []
+    for fac in (1 - margin, 1 + margin):
+        pp = s.params.with_(excitation_amplitude=lim * fac, excitation_frequency=f)
+        q0, qd0 = stuck_steady_state(pp, 0.0)
+        tr = time_response(pp, periods, y0=np.concatenate([q0, qd0]), rtol=rtol,
+                           samples_per_period=100)
+        r = tr.result
+        slip = np.flatnonzero(np.any(r.modes != 0, axis=1))
+        amps.append(lim * fac)
+        slipped.append(bool(slip.size))
+        first.append(float(r.t[slip[0]]) if slip.size else float("nan"))
+        reserve.append(float(np.min(pp.mu_static * r.lambda_N - np.abs(r.lambda_T))))
+    return PulloffCheck(frequency_hz=f, F_e_limit_N=lim, amplitudes_N=tuple(amps),
+                        slipped=tuple(slipped), first_slip_time_s=tuple(first),
+                        min_reserve_N=tuple(reserve))
+
+
+# ===================================================================== steady state, design
+@dataclass(frozen=True)
+class SteadyState:
+    """Steady forced response at one excitation frequency.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        Excitation frequency [Hz].
+    amplitude_m : float
+        Blade amplitude q4 [m]: half the peak-to-peak value over the last ``measure_periods``.
+    converged : bool
+        True when two successive chunks gave amplitudes within ``tol``.
+    periods : float
+        Periods integrated.
+    y_end : ndarray, shape (14,)
+        Final state ``[q, q']`` (warm start for the next frequency).
+    time_in_configuration : dict of str -> float
+        Time [s] in each configuration over the last chunk.
+    errors : tuple of str
+        Violated assumptions or solver failures (see :class:`TimeResponse`).
+    """
+
+    frequency_hz: float
+    amplitude_m: float
+    converged: bool
+    periods: float
+    y_end: np.ndarray
+    time_in_configuration: dict
+    errors: tuple[str, ...] = ()
+
+
+def _amplitude(tr: TimeResponse, periods: float, dof: int = 3) -> float:
+    _, x, _ = tr.phase_plot(dof, last_periods=periods)
+    return 0.5 * float(x.max() - x.min())
+
+
+def steady_state_amplitude(params, *, y0=None, t_start: float = 0.0,
+                           chunk_periods: float = 8.0, max_periods: float = 96.0,
+                           measure_periods: float | None = None, tol: float = 0.05,
+                           rtol: float = 1e-7, atol: float = 1e-11,
+                           samples_per_period: int = 60) -> SteadyState:
+    """Steady blade amplitude q4 [m] at ``params.excitation_frequency``.
+
+    Below the pull-off amplitude the stuck steady state is exact and linear: its amplitude is
+    returned directly (``periods = 0``). Above it, event-driven chunks of ``chunk_periods``
+    periods are run from ``y0`` at ``t_start`` (default: the stuck steady state at the pull-off
+    amplitude, which starts slipping at once) until, over the last ``measure_periods``
+    periods, (a) the q4 amplitude differs by less than ``tol`` (relative) from the previous
+    chunk's and (b) the mechanical energy changes by less than ``tol`` times the input work
+    of those periods (a periodic state stores nothing; a slowly decaying transient passes
+    (a) but not (b)), or until ``max_periods`` is reached (``converged = False``).
+
+    Stick-slip steady states need not be periodic (the contacts may take turns irregularly):
+    the amplitude is then the largest half peak-to-peak value over the measuring window
+    (default: the whole chunk), and the criteria above test stationarity, not periodicity.
+    """
+    s = _system(params)
+    p = s.params
+    if measure_periods is None:
+        measure_periods = chunk_periods
+    if not (chunk_periods >= measure_periods > 0 and max_periods >= chunk_periods):
+        raise ModelError("need max_periods >= chunk_periods >= measure_periods > 0, got "
+                         f"{max_periods!r}, {chunk_periods!r}, {measure_periods!r}")
+    f = p.excitation_frequency
+    T = 1.0 / f
+    lim = float(pulloff_curve(s, [f]).F_e_limit_N[0])
+    if y0 is None and p.excitation_amplitude <= lim:
+        Q = stuck_constraint_forces(s, [f])["Q"][0] * p.excitation_amplitude
+        q, qd = stuck_steady_state(s, t_start)
+        return SteadyState(frequency_hz=f, amplitude_m=float(abs(Q[3])), converged=True,
+                           periods=0.0, y_end=np.concatenate([q, qd]),
+                           time_in_configuration={c: (float("inf") if c == "stick/stick"
+                                                      else 0.0) for c in CONFIGURATIONS})
+    if y0 is None:  # the stuck steady state at the pull-off amplitude: consistent, and
+        # it starts slipping at once under the larger excitation
+        y = np.concatenate(stuck_steady_state(p.with_(excitation_amplitude=lim), t_start))
+    else:
+        y = as_finite_array("y0", y0)
+    t = float(t_start)
+    done, prev, amp = 0.0, np.nan, np.nan
+    errors: tuple[str, ...] = ()
+    tic: dict = {}
+    converged = False
+    while done < max_periods - 1e-9:
+        tr = time_response(s, chunk_periods, y0=y, t_start=t,
+                           samples_per_period=samples_per_period, rtol=rtol, atol=atol)
+        r = tr.result
+        errors = tr.errors
+        if r.t.size < 2 or r.t[-1] <= t:
+            amp = float("nan")
+            break
+        done += chunk_periods
+        t = float(r.t[-1])
+        tic = tr.time_in_configuration
+        y = np.concatenate([r.q[-1], r.qd[-1]])
+        amp = _amplitude(tr, measure_periods)
+        if errors:
+            break
+        sel = r.t >= r.t[-1] - measure_periods * T
+        e = r.energy
+        stored = e["kinetic"][sel] + e["potential"][sel]
+        work = e["input_work"][sel]
+        drift = abs(stored[-1] - stored[0]) / max(abs(work[-1] - work[0]), 1e-300)
+        if (np.isfinite(prev) and abs(amp - prev) <= tol * max(amp, 1e-300)
+                and drift <= tol):
+            converged = True
+            break
+        prev = amp
+    return SteadyState(frequency_hz=f, amplitude_m=amp, converged=converged, periods=done,
+                       y_end=y, time_in_configuration=tic, errors=errors)
+
+
+def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
+                        max_periods: float = 96.0, tol: float = 0.05,
+                        rtol: float = 1e-7, n_fine: int = 401) -> dict:
+    """Steady q4 amplitude over a stepped-sine sweep and its maximum.
+
+    Frequencies are visited in the given order; each event-driven run starts from the end
+    state of the previous one (with the excitation phase kept continuous), so the transient
+    is short. Points below the pull-off amplitude use the exact stuck steady state, which is
+    also scanned on ``n_fine`` frequencies across the band wherever it is valid (a lightly
+    damped stuck resonance is narrower than the sweep's step).
+
+    Returns
+    -------
+    dict
+        ``frequency_hz`` (n,), ``amplitude_m`` (n,), ``converged`` (n,) bool, ``stuck`` (n,)
+        bool (exact stuck steady state), ``peak_hz``, ``peak_amplitude_m`` (the largest of:
+        the fine stuck scan, the largest event-driven sample refined by a parabola through
+        it and its neighbours), ``errors`` (list of str).
+    """
+    s = _system(params)
+    p = s.params
+    f = _frequencies("frequency_hz", frequency_hz)
+    amp = np.full(f.size, np.nan)
+    conv = np.zeros(f.size, dtype=bool)
+    stuck = np.zeros(f.size, dtype=bool)
+    errors: list[str] = []
+    y, phase = None, 0.0
+    for i, fi in enumerate(f):
+        pp = p.with_(excitation_frequency=float(fi))
+        w = 2 * np.pi * fi
+        ss = steady_state_amplitude(pp, y0=y, t_start=phase / w if y is not None else 0.0,
+                                    chunk_periods=chunk_periods, max_periods=max_periods,
+                                    tol=tol, rtol=rtol)
+        amp[i], conv[i], stuck[i] = ss.amplitude_m, ss.converged, ss.periods == 0
+        errors.extend(f"{fi:g} Hz: {e}" for e in ss.errors)
+        if ss.periods > 0 and not ss.errors:
+            y = ss.y_end
+            t_end = (phase / w) + ss.periods / fi
+            phase = (w * t_end) % (2 * np.pi)
+        else:  # stuck: exact steady state, restart from it at phase 0 next time
+            y, phase = None, 0.0
+    cands = []  # (amplitude, frequency)
+    fg = np.linspace(f.min(), f.max(), int(n_fine))
+    Ag = np.abs(stuck_constraint_forces(s, fg)["Q"][:, 3]) * p.excitation_amplitude
+    valid = p.excitation_amplitude <= pulloff_curve(s, fg).F_e_limit_N
+    if valid.any():
+        j = int(np.argmax(np.where(valid, Ag, -np.inf)))
+        cands.append((float(Ag[j]), float(fg[j])))
+    ev = ~stuck & np.isfinite(amp)
+    if ev.any():
+        k = int(np.argmax(np.where(ev, amp, -np.inf)))
+        cands.append((float(amp[k]), float(f[k])))
+        if 0 < k < f.size - 1 and np.all(np.isfinite(amp[k - 1:k + 2])):
+            x, a = f[k - 1:k + 2], amp[k - 1:k + 2]
+            c = np.polyfit(x - x[1], a, 2)
+            if c[0] < 0:
+                xv = -c[1] / (2 * c[0])
+                if abs(xv) <= max(x[2] - x[1], x[1] - x[0]):
+                    cands.append((float(np.polyval(c, xv)), float(x[1] + xv)))
+    peak_a, peak_f = max(cands) if cands else (np.nan, np.nan)
+    return {"frequency_hz": f, "amplitude_m": amp, "converged": conv, "stuck": stuck,
+            "peak_hz": peak_f, "peak_amplitude_m": peak_a, "errors": errors}
+
+
+@dataclass(frozen=True)
+class DesignStudy:
+    """Damper design study: resonant blade amplitude q4 over damper mass, gamma and parabola.
+
+    Attributes
+    ----------
+    damper_mass_kg : ndarray, shape (n_m,)
+    gamma_deg : ndarray, shape (n_g,)
+    parabolas : tuple of (float, float)
+        ``(p1 [1/m], p2 [m])`` pairs, shape (n_p,).
+    blade_amplitude_m : ndarray, shape (n_p, n_m, n_g)
+        Largest steady q4 amplitude over the frequency band [m] (000 Fig. 12).
+    peak_frequency_hz : ndarray, shape (n_p, n_m, n_g)
+        Frequency of that largest amplitude [Hz].
+    converged : ndarray of bool, shape (n_p, n_m, n_g)
+        All event-driven points of the sweep converged.
+    centrifugal_acceleration : float
+        ``F_Z = m_D a_c`` [m/s^2] (a turbine: the centrifugal force grows with the mass).
+    frequency_hz : ndarray, shape (n_f,)
+        Frequencies swept [Hz].
+    errors : tuple of str
+    """
+
+    damper_mass_kg: np.ndarray
+    gamma_deg: np.ndarray
+    parabolas: tuple
+    blade_amplitude_m: np.ndarray
+    peak_frequency_hz: np.ndarray
+    converged: np.ndarray
+    centrifugal_acceleration: float
+    frequency_hz: np.ndarray
+    errors: tuple[str, ...] = ()
+
+    @property
+    def optimum(self) -> dict:
+        """Design with the smallest resonant blade amplitude."""
+        k = np.unravel_index(int(np.nanargmin(self.blade_amplitude_m)),
+                             self.blade_amplitude_m.shape)
+        p1, p2 = self.parabolas[k[0]]
+        return {"damper_mass_kg": float(self.damper_mass_kg[k[1]]),
+                "gamma_deg": float(self.gamma_deg[k[2]]), "p1_per_m": float(p1),
+                "p2_m": float(p2), "blade_amplitude_m": float(self.blade_amplitude_m[k])}
+
+    def to_dict(self) -> dict:
+        """Plain-Python dict (results contract of the ``design`` analysis).
+
+        ``blade_amplitude_m`` is the (n_m, n_g) table of the first parabola; every parabola's
+        table is under ``parabolas``; the optimum is over all of them.
+        """
+        return {
+            "damper_mass_kg": self.damper_mass_kg.tolist(),
+            "gamma_deg": self.gamma_deg.tolist(),
+            "blade_amplitude_m": self.blade_amplitude_m[0].tolist(),
+            "optimum": self.optimum,
+            "parabolas": [{"p1_per_m": float(p1), "p2_m": float(p2),
+                           "blade_amplitude_m": self.blade_amplitude_m[i].tolist(),
+                           "peak_frequency_hz": self.peak_frequency_hz[i].tolist()}
+                          for i, (p1, p2) in enumerate(self.parabolas)],
+            "centrifugal_acceleration_m_per_s2": float(self.centrifugal_acceleration),
+            "frequency_hz": self.frequency_hz.tolist(),
+            "converged": bool(self.converged.all()),
+            "errors": list(self.errors),
+        }
+
+
+def default_design_band(params=None, n: int = 10) -> np.ndarray:
+    """Frequencies [Hz] covering the first two modes of the stuck and of the free-sliding
+    system (3 % margin): the friction-damped blade resonances lie between them."""
+    s = _system(params)
+    fs = s.stuck_system().eigenfrequencies()
+    fl = s.sliding_system().eigenfrequencies()
+    lo = 0.97 * min(fs[0], fl[0])
+    hi = 1.03 * max(fs[1], fl[1])
+    return np.linspace(lo, hi, int(n))
+
+
+def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e-3, 1e-3,
+                                                                    2e-3, 4e-3),
+                 gammas_deg: Sequence[float] = (40.0, 50.0, 60.0, 65.0, 70.0, 80.0),
+                 parabolas: Sequence[tuple[float, float]] | None = None, *,
+                 frequency_hz=None, centrifugal_acceleration: float | None = None,
+                 chunk_periods: float = 8.0, max_periods: float = 64.0, tol: float = 0.05,
+                 rtol: float = 1e-7, progress=None) -> DesignStudy:
+    """Damper design study (000 Fig. 12): resonant blade amplitude q4 over m_D, gamma, parabola.
+
+    Parameters
+    ----------
+    params : BladeDamperParameters, optional
+        Base model; its excitation amplitude, ratio and phase are used.
+    damper_masses_kg, gammas_deg : sequences
+        Grid of damper masses [kg] and block angles [degrees].
+    parabolas : sequence of (p1, p2), optional
+        Contour parameters [1/m, m]; default the base model's.
+    frequency_hz : array_like, optional
+        Stepped-sine frequencies [Hz]; default :func:`default_design_band`.
+    centrifugal_acceleration : float, optional
+        ``a_c`` [m/s^2] with ``F_Z = m_D a_c``; default the base model's ``F_Z / m_D`` (so the
+        base design keeps its force; 100 N for 1 g is 1e5 m/s^2, a turbine's value).
+    chunk_periods, max_periods, tol, rtol
+        Steady-state settings (see :func:`steady_state_amplitude`).
+    progress : callable, optional
+        Called with ``(done, total)`` after each design.
+
+    Returns
+    -------
+    DesignStudy
+    """
+    base = _system(params).params
+    masses = np.atleast_1d(as_finite_array("damper_masses_kg", damper_masses_kg)).astype(float)
+    gammas = np.atleast_1d(as_finite_array("gammas_deg", gammas_deg)).astype(float)
+    if np.any(masses <= 0):
+        raise ModelError(f"damper_masses_kg must be > 0 kg, got {damper_masses_kg!r}")
+    if np.any((gammas <= 0) | (gammas >= 90)):
+        raise ModelError(f"gammas_deg must lie in (0, 90) degrees, got {gammas_deg!r}")
+    pars = tuple((float(a), float(b)) for a, b in (parabolas or [(base.p1, base.p2)]))
+    ac = (base.centrifugal_force / base.damper_mass if centrifugal_acceleration is None
+          else float(centrifugal_acceleration))
+    if not ac > 0:
+        raise ModelError(f"centrifugal_acceleration must be > 0 m/s^2, got {ac!r}")
+    f = (default_design_band(base) if frequency_hz is None
+         else _frequencies("frequency_hz", frequency_hz))
+    shape = (len(pars), masses.size, gammas.size)
+    amp = np.full(shape, np.nan)
+    fpk = np.full(shape, np.nan)
+    conv = np.zeros(shape, dtype=bool)
+    errors: list[str] = []
+    total, done = int(np.prod(shape)), 0
+    for ip, (p1, p2) in enumerate(pars):
+        for im, m in enumerate(masses):
+            for ig, g in enumerate(gammas):
+                pp = base.with_(damper_mass=float(m), gamma_deg=float(g), p1=p1, p2=p2,
+                                centrifugal_force=float(m * ac))
+                r = resonance_amplitude(pp, f, chunk_periods=chunk_periods,
+                                        max_periods=max_periods, tol=tol, rtol=rtol)
+                amp[ip, im, ig] = r["peak_amplitude_m"]
+                fpk[ip, im, ig] = r["peak_hz"]
+                conv[ip, im, ig] = bool(np.all(r["converged"]))
+                errors.extend(f"m_D={m:g} kg, gamma={g:g} deg, p1={p1:g}: {e}"
+                              for e in r["errors"])
+                done += 1
+                if progress is not None:
+                    progress(done, total)
+    return DesignStudy(damper_mass_kg=masses, gamma_deg=gammas, parabolas=pars,
+                       blade_amplitude_m=amp, peak_frequency_hz=fpk, converged=conv,
+                       centrifugal_acceleration=ac, frequency_hz=f, errors=tuple(errors))
