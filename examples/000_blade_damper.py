@@ -150,8 +150,12 @@ def _fig_design(design: dict, out: Path) -> str:
         design["parabolas"]), 3.8), squeeze=False)
     for ax, par in zip(axes[0], design["parabolas"], strict=True):
         A = np.array(par["blade_amplitude_m"]) * 1e3
+        ok = np.array(par["valid"], dtype=bool)
         for j, gj in enumerate(g):
-            ax.plot(m, A[:, j], "o-", lw=1.2, ms=3, label=f"gamma = {gj:g} deg")
+            line, = ax.plot(m, np.where(ok[:, j], A[:, j], np.nan), "o-", lw=1.2, ms=3,
+                            label=f"gamma = {gj:g} deg")
+            bad = ~ok[:, j]
+            ax.plot(m[bad], A[bad, j], "x", color=line.get_color(), ms=7)
         ax.set_xscale("log")
         ax.set_xticks(m, [f"{v:g}" for v in m])
         ax.minorticks_off()
@@ -163,7 +167,8 @@ def _fig_design(design: dict, out: Path) -> str:
     opt = design["optimum"]
     axes[0][0].plot(opt["damper_mass_kg"] * 1e3, opt["blade_amplitude_m"] * 1e3, "k*", ms=12,
                     label="optimum")
-    axes[0][0].legend(fontsize="small")
+    axes[0][0].legend(fontsize="small", title="x: normal force < 0 (invalid)",
+                      title_fontsize="small")
     fig.tight_layout()
     p = out / "fig12_design.png"
     fig.savefig(p, dpi=120)

@@ -98,3 +98,19 @@ def test_design_study_rejects_bad_grids():
         design_study(BladeDamperParameters(), (0.0,), (50.0,))
     with pytest.raises(ModelError, match="gammas_deg"):
         design_study(BladeDamperParameters(), (1e-3,), (95.0,))
+
+
+def test_optimum_skips_designs_that_violate_the_model():
+    """A design whose sweep reported a negative normal force (the damper would lift off) is
+    not a valid optimum even if its amplitude is the smallest."""
+    from fricdamp.models.blade_damper_analyses import DesignStudy
+
+    A = np.array([[[3.0, 1.0], [2.0, 4.0]]])
+    ds = DesignStudy(damper_mass_kg=np.array([1e-3, 2e-3]), gamma_deg=np.array([50.0, 80.0]),
+                     parabolas=((-80.0, 2e-3),), blade_amplitude_m=A,
+                     peak_frequency_hz=np.full(A.shape, 51.0), converged=np.ones(A.shape, bool),
+                     valid=np.array([[[True, False], [True, True]]]),
+                     centrifugal_acceleration=1e5, frequency_hz=np.array([51.0]))
+    assert ds.optimum == {"damper_mass_kg": 2e-3, "gamma_deg": 50.0, "p1_per_m": -80.0,
+                          "p2_m": 2e-3, "blade_amplitude_m": 2.0}
+    assert ds.to_dict()["parabolas"][0]["valid"] == [[True, False], [True, True]]

@@ -31,17 +31,14 @@ assumption fails first).
 
 from __future__ import annotations
 
-import logging
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.models._blade_damper_runs import simulate as _simulate
 from fricdamp.models.blade_damper import BladeDamperParameters, BladeDamperSystem
-
-log = logging.getLogger(__name__)
 
 __all__ = [
     "CONFIGURATIONS",
@@ -372,110 +369,6 @@ def time_response(params=None, periods: float = 20.0, *, y0=None, t_start: float
     return _wrap(res, p)
 
 
-_FAIL_TIME = re.compile(r"at t = ([-+0-9.eE]+) s")
-
-
-def _project_stuck(system: BladeDamperSystem, q, qd, stuck):
-    """M-orthogonal projection of q' onto ``W_N^T q' = 0`` and ``W_T,i^T q' = 0`` (i stuck)."""
-    WN, WT, _, _ = system.kinematics(q, qd)
-    W = np.hstack([WN, WT[:, np.asarray(stuck, dtype=bool)]])
-    MiW = (1.0 / np.diag(system.M))[:, None] * W
-    return qd - MiW @ np.linalg.solve(W.T @ MiW, W.T @ qd)
-
-
-def _simulate(system: BladeDamperSystem, t0, t1, y0, t_eval, *, rtol, atol, max_events,
-              max_restarts: int = 100):
-    """:func:`~fricdamp.solvers.event.simulate_events` with restarts after round-off stalls.
-
-    The DOP853 phases of the event solver let the slip velocity of a stuck contact drift by
-    ~1e-12 of the velocity scale; when that contact then starts slipping, the drift can have
-    the wrong sign and the solver's slip-reversal test (threshold 100 eps) fires at once, over
-    and over ("chattering ... without time advancing"), or no configuration passes its
-    consistency check. Such a run is restarted from its last stored sample (before the
-    stall) with the velocities of the stuck contacts projected back onto their constraints
-    (kinetic-energy change ~1e-17 J, summed in ``meta["restart_energy"]``); the restarts are
-    counted in ``meta["restarts"]``. A failure that recurs without progress is returned as a
-    failed result.
-    """
-    from fricdamp.solvers.event import simulate_events
-
-    parts = []
-    restarts: list[float] = []
-    n = system.n_dof
-    ts, y = float(t0), np.asarray(y0, dtype=float)
-    # a state that ended a previous run in stick carries the same ~1e-12 drift: put it back
-    q, qd = y[:n], y[n:]
-    WT = system.tangent_jacobian(q)
-    small = np.abs(WT.T @ qd) <= 1e-9 * (np.abs(WT).T @ np.abs(qd))
-    qd_new = _project_stuck(system, q, qd, small)
-    de = abs(system.kinetic_energy(qd) - system.kinetic_energy(qd_new))
-    y = np.concatenate([q, qd_new])
-    while True:
-        te = t_eval[(t_eval >= ts) & (t_eval <= t1)]
-        r = simulate_events(system, (ts, t1), y, t_eval=te, rtol=rtol, atol=atol,
-                            max_events=max_events, throw=False)
-        m = _FAIL_TIME.search(r.message) if r.status == -1 else None
-        if r.success or m is None or len(restarts) >= max_restarts:
-            parts.append((r, False))
-            break
-        if r.t.size > 1 and r.t[-1] > ts:
-            parts.append((r, True))  # its last sample is the next run's first
-        else:  # stalled before the first stored sample: rerun up to just before the stall
-            te_ = ts + (1 - 1e-6) * (float(m.group(1)) - ts)
-            r2 = None
-            if te_ > ts:
-                try:
-                    r2 = simulate_events(system, (ts, te_), y, t_eval=np.array([ts, te_]),
-                                         rtol=rtol, atol=atol, max_events=max_events,
-                                         throw=False)
-                except (ConvergenceError, IndexError, ValueError) as exc:  # solver edge case
-                    log.info("rerun before the stall failed: %s", exc)
-            if r2 is None or not r2.success or r2.t[-1] <= ts:
-                parts.append((r, False))
-                break
-            r = r2
-            parts.append((r, True))
-        q, qd = r.q[-1], r.qd[-1]
-        qd_new = _project_stuck(system, q, qd, r.modes[-1] == 0)
-        de += abs(system.kinetic_energy(qd) - system.kinetic_energy(qd_new))
-        log.info("event solver stalled (%s); restarted at t = %.17g s", r.message, r.t[-1])
-        restarts.append(float(r.t[-1]))
-        ts, y = float(r.t[-1]), np.concatenate([q, qd_new])
-    res = parts[0][0] if len(parts) == 1 else _merge(parts)
-    res.meta["restarts"] = len(restarts)
-    res.meta["restart_times"] = restarts
-    res.meta["restart_energy"] = de
-    return res
-
-
-def _merge(parts):
-    """Concatenate EventResults of consecutive runs ``[(result, drop_last_sample), ...]``
-    (cumulative energies continued)."""
-    from dataclasses import replace
-
-    cum = ("input_work", "friction_dissipation", "viscous_dissipation")
-    energy = {k: [] for k in parts[0][0].energy}
-    off = dict.fromkeys(cum, 0.0)
-    keep = []
-    for r, drop in parts:
-        sl = slice(0, r.t.size - 1 if drop else r.t.size)
-        keep.append(sl)
-        for k, v in r.energy.items():
-            energy[k].append((v + off[k] if k in cum else v)[sl])
-        for k in cum:
-            if r.energy[k].size:
-                off[k] = off[k] + r.energy[k][-1]
-    cat = {k: np.concatenate([getattr(r, k)[sl] for (r, _), sl in zip(parts, keep,
-                                                                      strict=True)])
-           for k in ("t", "q", "qd", "lambda_N", "lambda_T", "modes")}
-    counters = {k: sum(getattr(r, k) for r, _ in parts) for k in
-                ("n_events", "n_phases", "n_decisions", "n_rhs", "n_expm", "n_singular",
-                 "projection_energy", "runtime_s")}
-    return replace(parts[-1][0], **cat, events=tuple(e for r, _ in parts for e in r.events),
-                   energy={k: np.concatenate(v) for k, v in energy.items()}, **counters,
-                   meta={})
-
-
 def _wrap(res, p) -> TimeResponse:
     errors = []
     if not res.success:
@@ -750,6 +643,9 @@ class DesignStudy:
         Frequency of that largest amplitude [Hz].
     converged : ndarray of bool, shape (n_p, n_m, n_g)
         All event-driven points of the sweep converged.
+    valid : ndarray of bool, shape (n_p, n_m, n_g)
+        No point of the sweep violated the model (a negative normal force: the damper would
+        lift off) or failed in the solver; invalid designs are excluded from the optimum.
     centrifugal_acceleration : float
         ``F_Z = m_D a_c`` [m/s^2] (a turbine: the centrifugal force grows with the mass).
     frequency_hz : ndarray, shape (n_f,)
@@ -763,15 +659,19 @@ class DesignStudy:
     blade_amplitude_m: np.ndarray
     peak_frequency_hz: np.ndarray
     converged: np.ndarray
+    valid: np.ndarray
     centrifugal_acceleration: float
     frequency_hz: np.ndarray
     errors: tuple[str, ...] = ()
 
     @property
     def optimum(self) -> dict:
-        """Design with the smallest resonant blade amplitude."""
-        k = np.unravel_index(int(np.nanargmin(self.blade_amplitude_m)),
-                             self.blade_amplitude_m.shape)
+        """Valid design with the smallest resonant blade amplitude (NaNs if none is valid)."""
+        A = np.where(self.valid, self.blade_amplitude_m, np.nan)
+        if np.all(np.isnan(A)):
+            return {"damper_mass_kg": np.nan, "gamma_deg": np.nan, "p1_per_m": np.nan,
+                    "p2_m": np.nan, "blade_amplitude_m": np.nan}
+        k = np.unravel_index(int(np.nanargmin(A)), A.shape)
         p1, p2 = self.parabolas[k[0]]
         return {"damper_mass_kg": float(self.damper_mass_kg[k[1]]),
                 "gamma_deg": float(self.gamma_deg[k[2]]), "p1_per_m": float(p1),
@@ -790,7 +690,9 @@ class DesignStudy:
             "optimum": self.optimum,
             "parabolas": [{"p1_per_m": float(p1), "p2_m": float(p2),
                            "blade_amplitude_m": self.blade_amplitude_m[i].tolist(),
-                           "peak_frequency_hz": self.peak_frequency_hz[i].tolist()}
+                           "peak_frequency_hz": self.peak_frequency_hz[i].tolist(),
+                           "converged": self.converged[i].tolist(),
+                           "valid": self.valid[i].tolist()}
                           for i, (p1, p2) in enumerate(self.parabolas)],
             "centrifugal_acceleration_m_per_s2": float(self.centrifugal_acceleration),
             "frequency_hz": self.frequency_hz.tolist(),
@@ -859,6 +761,7 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
     amp = np.full(shape, np.nan)
     fpk = np.full(shape, np.nan)
     conv = np.zeros(shape, dtype=bool)
+    valid = np.zeros(shape, dtype=bool)
     errors: list[str] = []
     total, done = int(np.prod(shape)), 0
     for ip, (p1, p2) in enumerate(pars):
@@ -871,11 +774,12 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
                 amp[ip, im, ig] = r["peak_amplitude_m"]
                 fpk[ip, im, ig] = r["peak_hz"]
                 conv[ip, im, ig] = bool(np.all(r["converged"]))
+                valid[ip, im, ig] = not r["errors"] and np.isfinite(r["peak_amplitude_m"])
                 errors.extend(f"m_D={m:g} kg, gamma={g:g} deg, p1={p1:g}: {e}"
                               for e in r["errors"])
                 done += 1
                 if progress is not None:
                     progress(done, total)
     return DesignStudy(damper_mass_kg=masses, gamma_deg=gammas, parabolas=pars,
-                       blade_amplitude_m=amp, peak_frequency_hz=fpk, converged=conv,
+                       blade_amplitude_m=amp, peak_frequency_hz=fpk, converged=conv, valid=valid,
                        centrifugal_acceleration=ac, frequency_hz=f, errors=tuple(errors))
