@@ -47,6 +47,7 @@ from numba import njit
 
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.solvers.timestep import energy_balance_error, energy_residual
 from fricdamp.structure.system import MechanicalSystem
 
 __all__ = ["FastTransientResult", "StaticContactResult", "integrate_contact3d",
@@ -293,20 +294,12 @@ class FastTransientResult:
     @property
     def energy_residual(self) -> np.ndarray:
         """``input_work - (d(T + V + stored) + viscous + contact dissipation)`` [J]."""
-        e = self.energy
-        mech = e["kinetic"] + e["strain"] + e["contact_stored"]
-        return e["input_work"] - (mech - mech[0]) - e["viscous_dissipation"] - e[
-            "contact_dissipation"]
+        return energy_residual(self.energy)
 
     @property
     def energy_balance_error(self) -> float:
         """Largest energy residual relative to the run's energy scale (as ``simulate``)."""
-        e = self.energy
-        mech = e["kinetic"] + e["strain"] + e["contact_stored"]
-        diss = e["viscous_dissipation"] + e["contact_dissipation"]
-        scale = max(np.max(np.abs(e["input_work"])), np.max(np.abs(mech)),
-                    np.max(np.abs(diss)))
-        return 0.0 if scale == 0 else float(np.max(np.abs(self.energy_residual)) / scale)
+        return energy_balance_error(self.energy)
 
 
 @njit(cache=True, nogil=True)

@@ -49,6 +49,30 @@ def _progress_default() -> bool:
     return bool(sys.stderr.isatty()) and not os.environ.get("CI")
 
 
+def energy_residual(energy: dict) -> np.ndarray:
+    """``input_work - (d(T + V + stored) + viscous + contact dissipation)`` [J], (n_t,), from
+    the cumulative energy terms of a time history (keys :data:`ENERGY_KEYS`)."""
+    e = energy
+    mech = e["kinetic"] + e["strain"] + e["contact_stored"]
+    return e["input_work"] - (mech - mech[0]) - e["viscous_dissipation"] - e[
+        "contact_dissipation"]
+
+
+def energy_balance_error(energy: dict) -> float:
+    """Largest energy residual relative to the energy scale of the run.
+
+    Scale: the largest of |input work|, total mechanical energy and total dissipation over
+    the run. 0 for an exact integration of the contacts.
+    """
+    e = energy
+    mech = e["kinetic"] + e["strain"] + e["contact_stored"]
+    diss = e["viscous_dissipation"] + e["contact_dissipation"]
+    scale = max(np.max(np.abs(e["input_work"])), np.max(np.abs(mech)), np.max(np.abs(diss)))
+    if scale == 0:
+        return 0.0
+    return float(np.max(np.abs(energy_residual(e))) / scale)
+
+
 @dataclass(frozen=True)
 class TimeResult:
     """Time history of a MechanicalSystem from :func:`simulate`.
@@ -92,26 +116,14 @@ class TimeResult:
     @property
     def energy_residual(self) -> np.ndarray:
         """``input_work - (dT + dV + viscous + contact dissipation + d stored)`` [J], (n_t,)."""
-        e = self.energy
-        mech = e["kinetic"] + e["strain"] + e["contact_stored"]
-        return e["input_work"] - (mech - mech[0]) - e["viscous_dissipation"] - e[
-            "contact_dissipation"]
+        return energy_residual(self.energy)
 
     @property
     def energy_balance_error(self) -> float:
-        """Largest energy residual relative to the energy scale of the run.
-
-        Scale: the largest of |input work|, total mechanical energy and total dissipation
-        over the run. 0 for an exact integration of the contacts; the algorithmic dissipation
-        of HHT-alpha (alpha < 0) shows up here too.
-        """
-        e = self.energy
-        mech = e["kinetic"] + e["strain"] + e["contact_stored"]
-        diss = e["viscous_dissipation"] + e["contact_dissipation"]
-        scale = max(np.max(np.abs(e["input_work"])), np.max(np.abs(mech)), np.max(np.abs(diss)))
-        if scale == 0:
-            return 0.0
-        return float(np.max(np.abs(self.energy_residual)) / scale)
+        """Largest energy residual relative to the energy scale of the run (see
+        :func:`energy_balance_error`); the algorithmic dissipation of HHT-alpha (alpha < 0)
+        shows up here too."""
+        return energy_balance_error(self.energy)
 
     # ----------------------------------------------------------------- export
     def to_xarray(self):
