@@ -165,6 +165,12 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help(sys.stderr)
         return EXIT_INVALID
+    return run_parsed(args)
+
+
+def run_parsed(args: argparse.Namespace) -> int:
+    """Run a parsed subcommand (``args.func``) and map its errors to exit codes: 2 invalid
+    input (one line), 1 solver failure or internal error, 130 interrupted."""
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="fricdamp: %(levelname)s: %(name)s: %(message)s")
     try:
@@ -184,6 +190,19 @@ def main(argv: list[str] | None = None) -> int:
         _err(f"internal error: {type(exc).__name__}: {exc} (run again with --traceback for "
              "details, and please report it)")
         return EXIT_FAILURE
+
+
+def main_for(add_subparsers, argv: list[str] | None = None) -> int:
+    """Run subcommands added by ``add_subparsers(subparsers)`` without the other commands
+    (``python -m fricdamp.cli_studies ...``, scripts and tests)."""
+    parser = argparse.ArgumentParser(prog="fricdamp")
+    add_subparsers(parser.add_subparsers(dest="command", metavar="COMMAND", required=True))
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:
+        code = exc.code
+        return code if isinstance(code, int) else (EXIT_OK if code is None else EXIT_INVALID)
+    return run_parsed(args)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -46,7 +46,6 @@ is allowed), 1 internal error.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -56,7 +55,7 @@ from pydantic import Field
 
 from fricdamp._version import __version__
 from fricdamp.case import Section, validate_section
-from fricdamp.errors import CaseError, ConvergenceError, ModelError
+from fricdamp.errors import CaseError, ModelError
 
 __all__ = ["ChannelsSection", "ProcessingSection", "RigFile", "RigSection", "add_subparsers",
            "handle_identify", "load_rig_file", "main"]
@@ -283,30 +282,9 @@ def main(argv: list[str] | None = None) -> int:
 
     ``python -m fricdamp.cli_identify identify SIGNALS --rig RIG.toml --out DIR``
     """
-    import logging
+    from fricdamp.cli import main_for
 
-    parser = argparse.ArgumentParser(prog="fricdamp")
-    add_subparsers(parser.add_subparsers(dest="command", metavar="COMMAND", required=True))
-    try:
-        args = parser.parse_args(argv)
-    except SystemExit as exc:
-        code = exc.code
-        return code if isinstance(code, int) else (EXIT_OK if code is None else EXIT_INVALID)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="fricdamp: %(levelname)s: %(name)s: %(message)s")
-    try:
-        return args.func(args)
-    except (CaseError, ModelError) as exc:
-        _err(str(exc))
-        return EXIT_INVALID
-    except ConvergenceError as exc:  # pragma: no cover - the pipeline has no solver
-        _err(str(exc))
-        return EXIT_FAILURE
-    except Exception as exc:
-        if args.traceback:
-            raise
-        _err(f"internal error: {type(exc).__name__}: {exc} (run again with --traceback)")
-        return EXIT_FAILURE
+    return main_for(add_subparsers, argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

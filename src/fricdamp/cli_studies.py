@@ -530,30 +530,9 @@ def main(argv: list[str] | None = None) -> int:
 
     ``python -m fricdamp.cli_studies sweep CASE.toml --grid ...``
     """
-    import logging
+    from fricdamp.cli import main_for
 
-    parser = argparse.ArgumentParser(prog="fricdamp")
-    add_subparsers(parser.add_subparsers(dest="command", metavar="COMMAND", required=True))
-    try:
-        args = parser.parse_args(argv)
-    except SystemExit as exc:
-        code = exc.code
-        return code if isinstance(code, int) else (EXIT_OK if code is None else EXIT_INVALID)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="fricdamp: %(levelname)s: %(name)s: %(message)s")
-    try:
-        return args.func(args)
-    except (CaseError, ModelError) as exc:
-        _err(str(exc))
-        return EXIT_INVALID
-    except KeyboardInterrupt:
-        _err("interrupted")
-        return EXIT_INTERRUPTED
-    except Exception as exc:
-        if args.traceback:
-            raise
-        _err(f"internal error: {type(exc).__name__}: {exc} (run again with --traceback)")
-        return EXIT_FAILURE
+    return main_for(add_subparsers, argv)
 
 
 if __name__ == "__main__":  # pragma: no cover
