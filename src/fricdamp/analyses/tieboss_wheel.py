@@ -26,17 +26,34 @@ Summary sections are dicts, so the lists ``decay`` and ``critical_speeds_rpm`` a
 ``reduction`` are written at the top level (:attr:`fricdamp.runner.AnalysisOutput.top_level`)
 by analyses with other names, whose own sections hold their key numbers. The keys are
 documented in ``docs/cases_tieboss_wheel.md``.
+
+Layout: this module holds the model object, the analyses and their registration; the
+``[model]`` table's schema is in :mod:`fricdamp.analyses._tieboss_spec` and the figures in
+:mod:`fricdamp.analyses._tieboss_figures` (helpers that :mod:`fricdamp.runner` does not
+auto-import; their names are importable from here).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from typing import Annotated, Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
 
+from fricdamp.analyses._tieboss_figures import (
+    STATE_COLORS,  # noqa: F401 - re-exported
+    _campbell_figures,
+    _decay_figures,
+    _modal_figures,
+    _reduction_figures,
+)
+from fricdamp.analyses._tieboss_spec import (
+    PAPER_DAMPING_RATIO,
+    TiebossWheelSpec,
+    tieboss_parameters,
+)
 from fricdamp.case import MAX_STEPS, NonNegative, Positive, Section
 from fricdamp.errors import CaseError
 from fricdamp.runner import (
@@ -70,122 +87,11 @@ MODEL_TYPE = "tieboss_wheel"
 _ANALYSES = ("[analysis.modal], [analysis.campbell_by_nd], [analysis.free_attenuation] and "
              "[analysis.reduction_comparison]")
 
-#: 003 section 3.2: damping ratios from the log decrement of the FEM envelopes.
-PAPER_DAMPING_RATIO = {2: 0.012, 6: 0.022}
-#: Open / stick / slip colours of the contact-state figures.
-STATE_COLORS = ("#d9d9d9", "#1f77b4", "#d62728")
-
 NodalDiameter = Annotated[int, Field(ge=0, le=1000)]
 Pair = Annotated[list[Annotated[int, Field(ge=0, le=1000)]], Field(min_length=2, max_length=2)]
 
 
 # ================================================================================ the model
-class TiebossWheelSpec(Section):
-    """``[model] type = "tieboss_wheel"``: paper 003's 30-blade wheel with tie-boss contacts
-    (:class:`~fricdamp.models.tieboss_wheel.TiebossWheelParameters`, same names).
-
-    The defaults are the library's (the paper's data and, for what it does not give, the
-    documented choices tuned to its Table 1); tests/cli/test_tieboss_wheel_case.py checks that
-    they agree.
-    """
-
-    # ---- wheel and blades (003 section 1.1)
-    n_blades: int = Field(30, ge=3, le=360, description="blades (sectors) N")
-    hub_inner_radius_m: Positive = Field(0.10, le=10.0, description="clamped radius of the "
-                                                                    "disk web")
-    hub_radius_m: Positive = Field(0.30, le=10.0, description="rim / blade-root radius")
-    tieboss_radius_m: Positive = Field(0.44, le=10.0, description="tie-boss radius (003: "
-                                                                  "0.44 m)")
-    tip_radius_m: Positive = Field(0.50, le=10.0, description="blade tip radius")
-    blade_width_m: Positive = Field(0.040, le=1.0, description="blade section, in its plane")
-    blade_thickness_m: Positive = Field(0.006, le=1.0, description="blade section, along "
-                                                                   "the flexural direction")
-    blade_angle_deg: float = Field(45.0, ge=0.0, le=90.0, description="blade plane to the "
-                                                                      "wheel plane")
-    contact_plane_angle_deg: float = Field(45.0, ge=0.0, lt=90.0, description="beta_c of the "
-                                           "contact plane (003: 45)")
-    shoulder_diameter_m: Positive = Field(0.010, le=1.0, description="tie-boss shoulders")
-    hub_thickness_m: Positive = Field(0.01004, le=1.0, description="disk web, axial (tuned)")
-    hub_width_m: Positive = Field(0.100, le=1.0, description="disk web, tangential")
-    rim_thickness_m: Positive = Field(0.005, le=1.0, description="rim beams, axial")
-    rim_height_m: Positive = Field(0.02478, le=1.0, description="rim beams, radial (tuned)")
-    tip_mass_kg: Positive = Field(0.4189, le=1e3, description="tip mass (tuned)")
-    tip_inertia_kg_m2: NonNegative = Field(1.0e-4, le=1e3, description="its rotary inertia")
-    tieboss_mass_kg: Positive = Field(0.030, le=1e3, description="tie-boss prism")
-    tieboss_inertia_kg_m2: NonNegative = Field(2.0e-6, le=1e3, description="its rotary "
-                                                                            "inertia")
-    young_modulus_Pa: Positive = Field(2.1e11, description="E (steel)")
-    density_kg_m3: Positive = Field(7850.0, description="rho (steel)")
-    poisson_ratio: float = Field(0.3, gt=-1.0, le=0.5, description="nu")
-    n_hub_elements: int = Field(3, ge=1, le=50, description="beam elements of the disk web")
-    n_blade_elements: int = Field(10, ge=2, le=100, description="beam elements of the blade")
-    # ---- damping (003 section 2.4)
-    damping_ratio: float = Field(1.0e-3, ge=0.0, lt=1.0, description="material damping ratio "
-                                                                     "(003: 0.1 %)")
-    damping_band_hz: Annotated[list[Positive], Field(min_length=2, max_length=2)] = Field(
-        [40.0, 60.0], description="[f1, f2] where the Rayleigh damping equals damping_ratio")
-    # ---- contacts (003 section 2.4, (2))
-    contact_offset_m: float = Field(1.0e-5, description="surface offset g0: > 0 interference "
-                                                        "(003: 1e-5 m), < 0 a gap")
-    contact_preload_N: NonNegative = Field(2.4, le=1e6, description="static normal force the "
-                                           "calibration aims at (003: 2.4 N)")
-    normal_stiffness_N_per_m: Positive = Field(4.654e5, description="normal penalty k_n "
-                                               "(calibrated for 2.4 N)")
-    tangential_stiffness_N_per_m: Positive | None = Field(
-        None, description="tangential penalty k_t (default k_n)")
-    mu_static: NonNegative = Field(0.4, le=5.0, description="mu_s of 003 (2)")
-    mu_sliding: NonNegative = Field(0.2, le=5.0, description="mu_d of 003 (2), <= mu_s")
-    decay_s_per_m: NonNegative = Field(4.0, le=1e6, description="DC of 003 (2)")
-    calibrate_normal_stiffness: bool = Field(
-        False, description="find k_n so that the wheel's prestress is contact_preload_N")
-
-    @model_validator(mode="after")
-    def _consistency(self):
-        radii = (self.hub_inner_radius_m, self.hub_radius_m, self.tieboss_radius_m,
-                 self.tip_radius_m)
-        if not radii[0] < radii[1] < radii[2] < radii[3]:
-            raise ValueError(
-                "the radii must satisfy hub_inner_radius_m < hub_radius_m < tieboss_radius_m < "
-                f"tip_radius_m, got {radii[0]:g}, {radii[1]:g}, {radii[2]:g}, {radii[3]:g} m")
-        f1, f2 = self.damping_band_hz
-        if not f1 < f2:
-            raise ValueError(f"damping_band_hz = [{f1:g}, {f2:g}] must be two frequencies "
-                             "f1 < f2 [Hz]")
-        if self.mu_sliding > self.mu_static:
-            raise ValueError(f"mu_sliding = {self.mu_sliding:g} must be <= mu_static = "
-                             f"{self.mu_static:g} (003 (2): the sliding coefficient does not "
-                             "exceed the static one)")
-        lim = 0.01 * self.tieboss_radius_m
-        if abs(self.contact_offset_m) > lim:
-            raise ValueError(f"contact_offset_m = {self.contact_offset_m:g} m must lie in "
-                             f"[{-lim:g}, {lim:g}] m (1 % of tieboss_radius_m: a small "
-                             "interference > 0 or gap < 0)")
-        if self.calibrate_normal_stiffness:
-            if "normal_stiffness_N_per_m" in self.model_fields_set:
-                raise ValueError("give either normal_stiffness_N_per_m or "
-                                 "calibrate_normal_stiffness = true, not both")
-            if self.contact_offset_m <= 0:
-                raise ValueError(
-                    f"contact_offset_m = {self.contact_offset_m:g} m must be > 0 m (an "
-                    "interference) with calibrate_normal_stiffness = true: a gap or a zero "
-                    "offset gives no prestress to calibrate the penalty against")
-            if self.contact_preload_N <= 0:
-                raise ValueError("contact_preload_N must be > 0 N with "
-                                 "calibrate_normal_stiffness = true")
-        return self
-
-
-def tieboss_parameters(spec: TiebossWheelSpec):
-    """The :class:`~fricdamp.models.tieboss_wheel.TiebossWheelParameters` of a ``[model]``
-    table (same names; raises ModelError). The normal penalty is the table's, calibrated
-    afterwards by the builder when ``calibrate_normal_stiffness`` is set."""
-    from fricdamp.models.tieboss_wheel import TiebossWheelParameters
-
-    kw = {f.name: getattr(spec, f.name) for f in fields(TiebossWheelParameters)}
-    kw["damping_band_hz"] = tuple(spec.damping_band_hz)
-    return TiebossWheelParameters(**kw)
-
-
 @dataclass(frozen=True, eq=False)
 class TiebossWheelCaseModel(ModelObject):
     """The model object of ``[model] type = "tieboss_wheel"``.
@@ -308,11 +214,6 @@ def _solver_notes(ctx: RunContext) -> tuple[str, list[str]]:
     return s.method, notes
 
 
-def _last_period(run) -> np.ndarray:
-    f = run.decay.mean_frequency_hz if run.decay is not None else 45.0
-    return run.t >= run.t[-1] - 1.0 / f
-
-
 # ================================================================================ modal
 class ModalAnalysis(Section):
     """``[analysis.modal]``: open-contact eigenfrequencies by nodal diameter from one sector
@@ -364,47 +265,6 @@ def run_modal(model: TiebossWheelCaseModel, spec: ModalAnalysis,
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes)
-
-
-def _modal_figures(summary: dict) -> list:
-    from fricdamp import plot
-    from fricdamp.models.tieboss_wheel import TABLE1_EXPERIMENT_HZ, TABLE1_FEM_HZ
-
-    nd = np.asarray(summary["nd"])
-    F = np.asarray(summary["families_hz"])
-    table = "table1" in summary
-    fig, axes = plot.new_figure(1, 2 if table else 1, width=11.5 if table else 6.5,
-                                height=4.2, title="Open-contact eigenfrequencies by nodal "
-                                                  "diameter (003 Table 1)")
-    ax = axes[0, 0]
-    ax.plot(nd, F[:, 0], "k.-", label="model, first family (cyclic symmetry)")
-    if table:
-        for k, (n, pair) in enumerate(TABLE1_FEM_HZ.items()):
-            ax.plot([n] * len(pair), pair, "s", mfc="none", color="C0",
-                    label="003 Table 1, FEM" if k == 0 else None)
-        for k, (n, pair) in enumerate(TABLE1_EXPERIMENT_HZ.items()):
-            vals = [v for v in pair if v is not None]
-            ax.plot([n] * len(vals), vals, "^", mfc="none", color="C1",
-                    label="003 Table 1, experiment" if k == 0 else None)
-    ax.set_xlabel("nodal diameter")
-    ax.set_ylabel("frequency [Hz]")
-    ax.legend(fontsize="small", loc="lower right")
-    if table:
-        ax2 = axes[0, 1]
-        rows = summary["table1"]
-        x = [r["nd"] for r in rows]
-        err = [100 * r["relative_error"] for r in rows]
-        ax2.bar([str(v) for v in x], err, color="C0")
-        for lim in (-1.0, 1.0):
-            ax2.axhline(lim, color="0.4", ls="--", lw=0.8)
-        ax2.axhline(0.0, color="k", lw=0.6)
-        ax2.set_xlabel("nodal diameter")
-        ax2.set_ylabel("model / paper FEM pair mean - 1 [%]")
-        ax2.set_title("error to Table 1 (dashed: 1 %)", fontsize="small")
-        ax2.set_ylim(-1.5, 1.5)
-    return [("table1.png", "Open-contact eigenfrequencies by nodal diameter: the model's first "
-             "family against 003 Table 1 (FEM pairs and experiment), and the relative error "
-             "to the FEM pair means", fig)]
 
 
 # ================================================================================ Campbell
@@ -492,51 +352,6 @@ def run_campbell_by_nd(model: TiebossWheelCaseModel, spec: CampbellByNDAnalysis,
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes, top_level={"critical_speeds_rpm": crit})
-
-
-def _campbell_figures(camp, crit: list, spec: CampbellByNDAnalysis) -> list:
-    import matplotlib
-
-    from fricdamp import plot
-
-    fig, axes = plot.new_figure(width=8.0, height=5.0, title=f"Campbell diagram by nodal "
-                                f"diameter, p = {spec.pulses} pulses (003 Fig. 6, (1))")
-    ax = axes[0, 0]
-    cmap = matplotlib.colormaps["viridis"]
-    nd_max = max(int(camp.nd.max()), 1)
-    for k, nd in enumerate(camp.nd):
-        ax.plot(camp.rpm, camp.frequency_hz[:, k], color=cmap(nd / nd_max), lw=1.1,
-                label=f"{nd}ND" if nd in (0, 2, 6, nd_max) else None)
-    fmin, fmax = float(camp.frequency_hz.min()), float(camp.frequency_hz.max())
-    lo, hi = 0.9 * fmin, 1.05 * fmax
-    orders = sorted(set(spec.orders) | {c["order"] for c in crit})
-    for o in orders:
-        f = spec.pulses * o * camp.rpm / 60.0
-        ax.plot(camp.rpm, f, "k--", lw=0.8)
-        inside = np.flatnonzero((f > lo) & (f < hi))
-        if inside.size:
-            i = inside[inside.size // 2]
-            ax.annotate(f"o = {o}", (camp.rpm[i], f[i]), fontsize=8, xytext=(4, -2),
-                        textcoords="offset points")
-    labels = {"model": "critical speed 003 (1)", "paper": "003 Table 2 (measured)"}
-    for c in crit:
-        if c["rpm"] is not None:
-            ax.plot(c["rpm"], c["frequency_hz"], "o", color="tab:red", ms=6,
-                    label=labels.pop("model", None))
-            ax.annotate(f"{c['rpm']:.0f} rpm ({c['nd']}ND, o = {c['order']})",
-                        (c["rpm"], c["frequency_hz"]), fontsize=7, xytext=(5, -11),
-                        textcoords="offset points")
-        if "paper_rpm" in c:
-            ax.plot(c["paper_rpm"], c["paper_frequency_hz"], "x", color="k", ms=7,
-                    label=labels.pop("paper", None))
-    ax.set_xlim(camp.rpm[0], camp.rpm[-1])
-    ax.set_ylim(lo, hi)
-    ax.set_xlabel("speed [rpm]")
-    ax.set_ylabel("frequency [Hz]")
-    ax.legend(fontsize="small", loc="lower right")
-    return [("campbell.png", f"Campbell diagram: first-family frequencies by nodal diameter vs "
-             f"speed (contacts open), the engine-order lines p o n / 60 of p = {spec.pulses} "
-             "pulses and the critical speeds s = 60 f / (p o) (003 (1)) against Table 2", fig)]
 
 
 # ================================================================================ free decay
@@ -677,149 +492,6 @@ def run_free_attenuation(model: TiebossWheelCaseModel, spec: FreeAttenuationAnal
                           notes=notes, top_level={"decay": entries})
 
 
-def _decay_figures(runs: list, obj: TiebossWheelCaseModel) -> list:
-    from matplotlib.colors import ListedColormap
-    from matplotlib.figure import Figure
-    from matplotlib.ticker import ScalarFormatter
-
-    from fricdamp import plot
-
-    N = obj.n_blades
-    A = (f"B{N - 1}.right", "B0.left")
-    B = ("B0.right", "B1.left")
-    figs = []
-    for run in runs:
-        # Figs 13-14: the contact nodes of contacts A and B, with the probe's envelope
-        fig, axes = plot.new_figure(1, 2, width=12.0, height=4.2, title=f"{run.nd}ND: free "
-                                    "attenuation of the contact nodes (003 Figs 13-14)")
-        for ax, keys, name in ((axes[0, 0], A, "contact A"), (axes[0, 1], B, "contact B")):
-            for key, ls in zip(keys, ("-", "--"), strict=True):
-                for c, comp in enumerate("xyz"):
-                    ax.plot(run.t, 1e3 * run.nodes[key][:, c], ls, lw=0.7, color=f"C{c}",
-                            label=f"{key} {comp}")
-            ax.set_title(f"{name} ({keys[0]} | {keys[1]})", fontsize="small")
-            ax.set_xlabel("time [s]")
-            ax.set_ylabel("displacement from rest [mm]")
-        if run.decay is not None:
-            env = run.decay.envelope
-            axes[0, 1].plot(env.time, 1e3 * env.amplitude, "k.", ms=4,
-                            label="envelope (B0.right along the flexural direction)")
-        for ax in axes[0]:
-            ax.legend(fontsize=6, ncols=2, loc="upper right")
-        figs.append((f"decay_{run.nd}ND.png", f"{run.nd}ND: displacements (x, y, z in blade "
-                     "0's frame) of the contact nodes of contacts A and B during the free "
-                     "attenuation, with the envelope of the probe (003 Figs 13-14)", fig))
-
-        # Figs 15-16: one period of the contact nodes' trajectories, relative motion, forces
-        sel = _last_period(run)
-        fig = Figure(figsize=(14.0, 4.4), layout="constrained")
-        fig.suptitle(f"{run.nd}ND: contact-node trajectories over the last period "
-                     "(003 Figs 15-16)", fontsize="medium")
-        ax = fig.add_subplot(1, 3, 1, projection="3d")
-        for key, c in zip(B + A, ("C0", "C1", "C2", "C3"), strict=True):
-            x = 1e3 * run.nodes[key][sel]
-            ax.plot(x[:, 0], x[:, 1], x[:, 2], color=c, lw=1, label=key)
-        ax.set_xlabel("x [mm]")
-        ax.set_ylabel("y [mm]")
-        ax.set_zlabel("z [mm]")
-        ax.legend(fontsize=6)
-        ax2 = fig.add_subplot(1, 3, 2)
-        for ci, name in ((0, "contact B (0)"), (N - 1, f"contact A ({N - 1})")):
-            u = 1e6 * run.contact_displacement[sel, ci]
-            ax2.plot(u[:, 1], u[:, 2], lw=1, label=name)
-        ax2.set_xlabel("relative t1 (radial) [µm]")
-        ax2.set_ylabel("relative t2 (in the plane) [µm]")
-        ax2.set_title("relative motion in the contact plane", fontsize="small")
-        ax2.grid(alpha=0.3)
-        ax2.legend(fontsize="small")
-        ax3 = fig.add_subplot(1, 3, 3)
-        t = run.t[sel]
-        ax3.plot(t, 1e6 * run.contact_displacement[sel, 0, 0], label="approach u_n [µm]")
-        ax3.plot(t, run.contact_force[sel, 0, 0], label="normal force N [N]")
-        ax3.plot(t, np.hypot(run.contact_force[sel, 0, 1], run.contact_force[sel, 0, 2]),
-                 label="|f_t| [N]")
-        ax3.axhline(-1e6 * run.meta["offset_m"], color="0.5", lw=0.8, ls=":",
-                    label="opening (u_n = -g0)")
-        ax3.set_xlabel("time [s]")
-        ax3.set_title("contact B: approach and forces", fontsize="small")
-        ax3.grid(alpha=0.3)
-        ax3.legend(fontsize="small")
-        figs.append((f"trajectories_{run.nd}ND.png", f"{run.nd}ND: trajectories of the contact "
-                     "nodes of contacts A and B over the last period, their relative motion in "
-                     "the contact plane, and contact B's normal approach and forces "
-                     "(003 Figs 15-16)", fig))
-
-        # Figs 17-18: open / stick / slip of every contact over time
-        if run.contact_status is not None:
-            st = run.contact_status
-            fig, axes = plot.new_figure(width=9.0, height=4.4, title=f"{run.nd}ND: contact "
-                                        "states (003 Figs 17-18)")
-            ax = axes[0, 0]
-            ax.grid(False)
-            ax.imshow(st.T, aspect="auto", interpolation="nearest", origin="lower",
-                      cmap=ListedColormap(STATE_COLORS), vmin=0, vmax=2,
-                      extent=(run.t[0], run.t[-1], -0.5, st.shape[1] - 0.5))
-            for k, name in enumerate(("open (near contact)", "stick", "slip")):
-                ax.plot([], [], "s", color=STATE_COLORS[k],
-                        label=f"{name}: {100 * np.mean(st == k):.0f} %")
-            ax.set_xlabel("time [s]")
-            ax.set_ylabel("contact (blade j | j + 1)")
-            ax.legend(fontsize="small", loc="upper right")
-            figs.append((f"contact_states_{run.nd}ND.png", f"{run.nd}ND: state of each of the "
-                         f"{N} tie-boss contacts over time: open, stick or slip "
-                         "(003 Figs 17-18)", fig))
-
-    # Fig. 19: envelopes with the log-decrement fit, amplitude-dependent ratio
-    fig, axes = plot.new_figure(1, 2, width=12.0, height=4.4, title="Free-attenuation "
-                                "envelopes and damping (003 Fig. 19)")
-    a1, a2 = axes[0]
-    for i, run in enumerate(runs):
-        if run.decay is None:
-            continue
-        col = f"C{i % 10}"
-        dec = run.decay
-        env = dec.envelope
-        a1.semilogy(env.time, 1e3 * env.amplitude, "o", ms=3.5, color=col,
-                    label=f"{run.nd}ND envelope (probe)")
-        delta = 2 * np.pi * run.damping_ratio / math.sqrt(1.0 - run.damping_ratio ** 2)
-        tl = np.linspace(env.time[0], env.time[-1], 100)
-        a1.semilogy(tl, 1e3 * env.amplitude[0] * np.exp(
-            -delta * dec.mean_frequency_hz * (tl - env.time[0])), "-", lw=1, color=col,
-            label=rf"log decrement: $\zeta$ = {100 * run.damping_ratio:.2f} %")
-        cf = dec.coulomb
-        a1.semilogy(tl, 1e3 * np.maximum(cf.intercept - cf.slope * tl, 1e-12), ":", lw=1,
-                    color=col, label="linear (Coulomb) fit")
-        a2.plot(1e3 * dec.amplitude, 100 * dec.damping_ratio, "o", ms=3, color=col,
-                alpha=0.6, label=f"{run.nd}ND, successive peaks")
-        hil = run.amplitude_decay
-        if hil is not None and hil.amplitude.size >= 2:
-            a2.plot(1e3 * hil.amplitude, 100 * hil.damping_ratio, "s-", ms=4, color=col,
-                    label=f"{run.nd}ND, Hilbert cycles")
-        a2.axhline(100 * run.damping_ratio, ls=":", lw=1, color=col,
-                   label=f"{run.nd}ND, record average")
-        if run.nd in PAPER_DAMPING_RATIO and obj.n_blades == 30:
-            a2.axhline(100 * PAPER_DAMPING_RATIO[run.nd], ls="--", lw=0.8, color=col,
-                       label=f"paper {run.nd}ND (log decrement)")
-    a1.yaxis.set_minor_formatter(ScalarFormatter())
-    a1.set_xlabel("time [s]")
-    a1.set_ylabel("envelope of the probe [mm]")
-    a2.set_xlabel("amplitude [mm]")
-    a2.set_ylabel("damping ratio [%]")
-    a2.set_title("amplitude-dependent ratio (alternate peak pairs differ by the drift of "
-                 "the friction-locked rest position)", fontsize="x-small")
-    if any(run.decay is not None for run in runs):
-        a1.legend(fontsize="x-small")
-        a2.legend(fontsize="x-small")
-    else:
-        a1.text(0.5, 0.5, "too few envelope peaks: lengthen duration_s", ha="center",
-                transform=a1.transAxes)
-    figs.append(("envelopes.png", "Envelopes of the free attenuations (peaks of the probe) "
-                 "with the record-average log-decrement fit and the linear (Coulomb) fit, and "
-                 "the amplitude-dependent damping ratio against the paper's values "
-                 "(003 Fig. 19)", fig))
-    return figs
-
-
 # ================================================================================ reduction
 class ReductionComparisonAnalysis(Section):
     """``[analysis.reduction_comparison]``: the same free attenuation on the full-order wheel
@@ -902,32 +574,6 @@ def run_reduction_comparison(model: TiebossWheelCaseModel, spec: ReductionCompar
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes, top_level={"reduction": red_dict})
-
-
-def _reduction_figures(rf, rr, r: dict) -> list:
-    from fricdamp import plot
-
-    n = min(rf.t.size, rr.t.size)
-    fig, axes = plot.new_figure(2, 1, width=9.0, height=2.8, sharex=True,
-                                title=f"{r['nd']}ND free attenuation: full order "
-                                      f"({r['full_dof']} DOFs) vs Craig-Bampton "
-                                      f"({r['reduced_dof']} DOFs)")
-    t = rf.t[:n]
-    a1, a2 = axes[:, 0]
-    a1.plot(t, 1e3 * rf.signal[:n], lw=1.2, label=f"full: zeta = "
-            f"{100 * r['damping_ratio_full']:.3f} %")
-    a1.plot(t, 1e3 * rr.signal[:n], "--", lw=1, label=f"reduced: zeta = "
-            f"{100 * r['damping_ratio_reduced']:.3f} %")
-    a1.set_ylabel("probe [mm]")
-    a1.legend(fontsize="small", loc="upper right")
-    d = rr.signal[:n] - rf.signal[:n]
-    fac, unit = plot.si_scale(d, "m")
-    a2.plot(t, d / fac, lw=0.8, color="C3")
-    a2.set_ylabel(f"reduced - full [{unit}]")
-    a2.set_xlabel("time [s]")
-    return [("reduction.png", "Probe displacement of the free attenuation on the full-order "
-             "wheel (general solver) and on the Craig-Bampton wheel (compiled path), and "
-             "their difference", fig)]
 
 
 register_model(MODEL_TYPE, TiebossWheelSpec, build_tieboss_wheel_case,

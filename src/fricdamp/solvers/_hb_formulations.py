@@ -1,0 +1,530 @@
+"""Harmonic-balance formulations: the residuals and Jacobians of :mod:`fricdamp.solvers.hb`.
+
+* ``_Setup``: the system data shared by the formulations (harmonic basis, stacked contact
+  projection, excitation coefficients :func:`excitation_coefficients`, linear estimates with
+  stuck or free contacts);
+* ``_Full``: the residual of the harmonics of all DOFs, its Jacobian assembled into a fixed
+  sparsity pattern (dense below :data:`DENSE_LIMIT` unknowns);
+* ``_Condensed``: the residual in the contact coordinates through the exact per-harmonic
+  dynamic compliance (modal superposition or direct solves);
+* ``_choose``: the formulation for ``method="auto" | "full" | "condensed"``.
+
+The equations and the choice between the formulations are described in
+:mod:`fricdamp.solvers.hb`, whose drivers are the public entry points.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from fricdamp.errors import ModelError
+from fricdamp.solvers.aft import HarmonicBasis, aft, element_rows
+from fricdamp.structure.system import HarmonicLoad, MechanicalSystem, TimeLoad
+
+#: Below this number of unknowns the full formulation uses dense LU (measured crossover
+#: with SuperLU on this class of machine: dense 330 x 330 ~1 ms, sparse ~0.5 ms).
+DENSE_LIMIT = 200
+
+
+# ============================================================================ set-up
+def _dense(A):
+    return A.toarray() if sp.issparse(A) else np.asarray(A, dtype=float)
+
+
+def excitation_coefficients(system: MechanicalSystem, harmonics: int) -> np.ndarray:
+    """Real harmonic coefficients (n_dof, 2H+1) of the static and harmonic loads [N].
+
+    ``HarmonicLoad(amplitude A, harmonic k)`` contributes ``Re(A e^{i k tau})``, i.e.
+    ``a_k += Re A`` and ``b_k += -Im A``; its ``omega`` field is ignored (the solver's
+    Omega replaces it).
+    """
+    n = system.n_dof
+    F = np.zeros((n, 2 * harmonics + 1))
+    F[:, 0] = system.static_load
+    for ld in system.loads:
+        if isinstance(ld, TimeLoad):
+            raise ModelError("harmonic balance needs periodic loads: replace TimeLoad by "
+                             "HarmonicLoad (amplitude, harmonic) entries")
+        if not isinstance(ld, HarmonicLoad):
+            raise ModelError(f"unsupported load {ld!r}")
+        k = int(ld.harmonic)
+        if k == 0:
+            F[:, 0] += ld.amplitude.real
+        elif k <= harmonics:
+            F[:, 2 * k - 1] += ld.amplitude.real
+            F[:, 2 * k] += -ld.amplitude.imag
+        else:
+            raise ModelError(f"a HarmonicLoad acts at harmonic {k} but harmonics={harmonics}: "
+                             f"use harmonics >= {k}")
+    return F
+
+
+class _Setup:
+    """System data shared by the formulations (built once per analysis)."""
+
+    def __init__(self, system: MechanicalSystem, harmonics: int, samples: int | None):
+        if not isinstance(system, MechanicalSystem):
+            raise ModelError(f"system must be a MechanicalSystem, got {type(system).__name__}")
+        if system.rotation is not None:
+            raise ModelError("the system has speed-dependent rotation terms: evaluate them "
+                             "first with system.at_speed(spin_speed_rad_s)")
+        self.system = system
+        self.basis = HarmonicBasis.create(harmonics, samples)
+        self.H = self.basis.harmonics
+        self.nh = self.basis.n_coeff
+        self.n = system.n_dof
+        self.contacts = system.contacts
+        self.rows = element_rows(self.contacts)
+        self.n_rows = self.rows[-1].stop if self.rows else 0
+        if self.contacts:
+            self.P = sp.vstack([sp.csr_matrix(c.projection) for c in self.contacts]).tocsr()
+        else:
+            self.P = sp.csr_matrix((0, self.n))
+        self.PT = self.P.T.tocsr()
+        self.F_ex = excitation_coefficients(system, self.H)
+        self.sparse = system.is_sparse
+        self.M, self.D, self.K = system.M, system.D, system.K
+        self.hn = self.basis.harmonic_number.astype(float)
+        self.em = -self.hn**2                       # coefficient of Omega^2 M
+        self.ED = np.zeros((self.nh, self.nh))      # coefficient of Omega D
+        k = np.arange(1, self.H + 1)
+        self.ED[2 * k - 1, 2 * k] = k
+        self.ED[2 * k, 2 * k - 1] = -k
+        self.EDT = self.ED.T.copy()
+        nd = [c.n_dir for c in self.contacts]
+        self.contact_names = tuple(
+            f"{c.name}[{i}]" if c.n_contacts > 1 else c.name
+            for c in self.contacts for i in range(c.n_contacts))
+        self.contact_of_row = np.concatenate(
+            [np.repeat(np.arange(c.n_contacts), d) + off for c, d, off in zip(
+                self.contacts, nd, np.cumsum([0] + [c.n_contacts for c in self.contacts])[:-1],
+                strict=True)]) if self.contacts else np.zeros(0, int)
+        self.n_contacts = len(self.contact_names)
+
+    # ---------------------------------------------------------------- linear estimates
+    def tangent_contact_stiffness(self):
+        """Contact stiffness at the virgin state and zero displacement, sparse (n, n)."""
+        if not self.contacts:
+            return sp.csr_matrix((self.n, self.n))
+        blocks = []
+        for c in self.contacts:
+            st = c.law.initial_state()
+            k = c.law.step(st, np.zeros((c.n_contacts, c.n_dir)),
+                           np.zeros((c.n_contacts, c.n_dir))
+                           if c.law.velocity_dependent else None).stiffness
+            blocks.append(sp.block_diag(list(np.asarray(k, float)), format="csr"))
+        Kc = sp.block_diag(blocks, format="csr")
+        return (self.PT @ Kc @ self.P).tocsr()
+
+    def linear_response(self, omega: float, K_extra=None) -> np.ndarray | None:
+        """Harmonic coefficients (n, nh) of the linear response with K + K_extra, or None."""
+        K = self.K
+        if K_extra is not None:
+            K = (K + K_extra).tocsr() if sp.issparse(K) else K + _dense(K_extra)
+        X = np.zeros((self.n, self.nh))
+        F = self.F_ex
+        try:
+            for k in range(self.H + 1):
+                cols = [0] if k == 0 else [2 * k - 1, 2 * k]
+                if not np.any(F[:, cols]):
+                    continue
+                Z = K - (k * omega) ** 2 * self.M + 1j * k * omega * self.D
+                rhs = F[:, 0].astype(complex) if k == 0 else F[:, 2 * k - 1] - 1j * F[:, 2 * k]
+                if sp.issparse(Z):
+                    import scipy.sparse.linalg as spla
+
+                    Qk = spla.spsolve(sp.csc_matrix(Z), rhs)
+                else:
+                    Qk = np.linalg.solve(np.asarray(Z), rhs)
+                if not np.all(np.isfinite(Qk)):
+                    return None
+                if k == 0:
+                    X[:, 0] = Qk.real
+                else:
+                    X[:, 2 * k - 1] = Qk.real
+                    X[:, 2 * k] = -Qk.imag
+        except (np.linalg.LinAlgError, RuntimeError, ValueError):
+            return None
+        return X
+
+
+# ============================================================================ full formulation
+class _Full:
+    """Residual of all DOF harmonics with a fixed-pattern Jacobian (dense or sparse)."""
+
+    def __init__(self, s: _Setup, *, dense: bool | None = None, nma: bool = False):
+        self.s = s
+        n, nh = s.n, s.nh
+        Nn = n * nh
+        self.N = Nn
+        self.nma = nma
+        terms = [(s.K, np.eye(nh)), (s.M, np.diag(s.em)), (s.D, s.ED)]
+        if nma:
+            terms.append((s.M, s.ED))
+        rows, cols, vals, which = [], [], [], []
+        for t, (A, E) in enumerate(terms):
+            C = sp.kron(sp.csr_matrix(A), sp.csr_matrix(E), format="coo")
+            rows.append(C.row.astype(np.int64))
+            cols.append(C.col.astype(np.int64))
+            vals.append(C.data)
+            which.append(np.full(C.nnz, t))
+        # nonlinear pattern: pairs of projection entries of the same contact
+        nl_rows, nl_cols, nl_coef, nl_src = [], [], [], []
+        offset = 0
+        self.block_sizes = []
+        for c, rs in zip(s.contacts, s.rows, strict=True):
+            Pc = s.P[rs].tocoo()
+            nc, nd = c.n_contacts, c.n_dir
+            m = nd * nh
+            self.block_sizes.append(nc * m * m)
+            if Pc.nnz:
+                con = Pc.row // nd
+                drn = Pc.row % nd
+                order = np.argsort(con, kind="stable")
+                con, drn, col, val = con[order], drn[order], Pc.col[order], Pc.data[order]
+                counts = np.bincount(con, minlength=nc)
+                starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+                pos = np.arange(con.size) - starts[con]
+                grid = np.full((nc, counts.max()), -1)
+                grid[con, pos] = np.arange(con.size)
+                ga = np.broadcast_to(grid[:, :, None], (nc, grid.shape[1], grid.shape[1]))
+                gb = np.broadcast_to(grid[:, None, :], ga.shape)
+                mask = (ga >= 0) & (gb >= 0)
+                ia, ib = ga[mask], gb[mask]
+                h = np.arange(nh)
+                r = (col[ia][:, None, None] * nh + h[None, :, None])
+                cc = (col[ib][:, None, None] * nh + h[None, None, :])
+                src = (offset + con[ia][:, None, None] * m * m
+                       + (drn[ia][:, None, None] * nh + h[None, :, None]) * m
+                       + drn[ib][:, None, None] * nh + h[None, None, :])
+                coef = np.broadcast_to((val[ia] * val[ib])[:, None, None], src.shape)
+                r, cc = np.broadcast_arrays(r, cc)
+                nl_rows.append(r.ravel())
+                nl_cols.append(cc.ravel())
+                nl_src.append(src.ravel())
+                nl_coef.append(coef.ravel())
+            offset += nc * m * m
+        self.n_jac = offset
+        all_r = np.concatenate(rows + nl_rows) if (rows + nl_rows) else np.zeros(0, np.int64)
+        all_c = np.concatenate(cols + nl_cols) if (cols + nl_cols) else np.zeros(0, np.int64)
+        # always include the diagonal (keeps the pattern non-empty and LU-friendly)
+        all_r = np.concatenate([all_r, np.arange(Nn)])
+        all_c = np.concatenate([all_c, np.arange(Nn)])
+        key = all_c * Nn + all_r
+        ukey, inv = np.unique(key, return_inverse=True)
+        self.nnz = ukey.size
+        self.indices = (ukey % Nn).astype(np.int32)
+        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(ukey // Nn, minlength=Nn))]
+                                     ).astype(np.int32)
+        self.lin_index = (ukey % Nn) * Nn + ukey // Nn     # row-major position (dense)
+        n_lin = sum(v.size for v in vals)
+        inv_lin, self.inv_nl = inv[:n_lin], inv[n_lin: n_lin + sum(x.size for x in nl_rows)]
+        w = np.concatenate(which) if which else np.zeros(0, int)
+        v = np.concatenate(vals) if vals else np.zeros(0)
+        self.base = [np.bincount(inv_lin[w == t], weights=v[w == t], minlength=self.nnz)
+                     for t in range(len(terms))]
+        self.nl_src = np.concatenate(nl_src) if nl_src else np.zeros(0, np.int64)
+        self.nl_coef = np.concatenate(nl_coef) if nl_coef else np.zeros(0)
+        if dense is None:
+            dense = Nn <= DENSE_LIMIT or self.nnz > 0.3 * Nn * Nn
+        self.dense = bool(dense)
+
+    # --------------------------------------------------------------------------
+    def linear_terms(self, X, omega, xi=0.0):
+        """S(Omega, xi) X, dS/dOmega X, dS/dxi X for X (n, nh)."""
+        s = self.s
+        KX = s.K @ X
+        MX = s.M @ X
+        DX = s.D @ X
+        DXE = DX @ s.EDT
+        SX = KX + (omega**2) * MX * s.em + omega * DXE
+        dSX = 2.0 * omega * MX * s.em + DXE
+        dxi = None
+        if self.nma:
+            MXE = MX @ s.EDT
+            SX -= xi * omega * MXE
+            dSX -= xi * MXE
+            dxi = -omega * MXE
+        return np.asarray(SX), np.asarray(dSX), dxi
+
+    def evaluate(self, x, omega, *, xi=0.0, jacobian=True, scale=1.0, x_scale=1.0,
+                 load_scale=1.0):
+        """Residual r (N,) [N * scale], Jacobian wrt x (scaled), dr/dOmega, dr/dxi, AFT.
+
+        ``load_scale`` multiplies the harmonic loads (k >= 1); the static load is kept.
+        """
+        s = self.s
+        X = (x * x_scale).reshape(s.n, s.nh)
+        SX, dSX, dxi = self.linear_terms(X, omega, xi)
+        r = SX - _static_only(s.F_ex)
+        if load_scale != 0.0:
+            r[:, 1:] -= load_scale * s.F_ex[:, 1:]
+        res = None
+        if s.contacts:
+            U = s.P @ X
+            res = aft(s.contacts, U, omega, s.basis, jacobian=jacobian)
+            r = r + s.PT @ res.force
+            if res.d_omega is not None:
+                dSX = dSX + s.PT @ res.d_omega
+        J = None
+        if jacobian:
+            data = self.base[0] + (omega**2) * self.base[1] + omega * self.base[2]
+            if self.nma:
+                data = data - (xi * omega) * self.base[3]
+            if res is not None and self.nl_src.size:
+                Jflat = np.concatenate([b.ravel() for b in res.jacobian])
+                data = data + np.bincount(self.inv_nl, weights=self.nl_coef * Jflat[self.nl_src],
+                                          minlength=self.nnz)
+            data *= scale * x_scale
+            if self.dense:
+                J = np.zeros(self.N * self.N)
+                J[self.lin_index] = data
+                J = J.reshape(self.N, self.N)
+            else:
+                # one CSC object per formulation, its data replaced at each call (building
+                # a scipy matrix costs ~0.1 ms of format checks): callers use J before the
+                # next evaluation, as Newton and the continuation do
+                J = getattr(self, "_J", None)
+                if J is None:
+                    J = sp.csc_matrix((data, self.indices, self.indptr),
+                                      shape=(self.N, self.N))
+                    J.has_sorted_indices = True
+                    self._J = J
+                else:
+                    J.data = data
+        dxi_out = None if dxi is None else dxi.ravel() * scale
+        return r.ravel() * scale, J, dSX.ravel() * scale, dxi_out, res
+
+    def to_dofs(self, x, omega, x_scale=1.0, load_scale=1.0):
+        return (x * x_scale).reshape(self.s.n, self.s.nh)
+
+
+def _static_only(F):
+    G = np.zeros_like(F)
+    G[:, 0] = F[:, 0]
+    return G
+
+
+# ============================================================================ condensation
+class _Condensed:
+    """Dynamic compliance of the contact coordinates, exact per harmonic.
+
+    ``modal``: ``Z_k^{-1} = Phi diag(1 / (w_j^2 - k^2 W^2 + i k W c_j)) Phi^T`` with mass
+    normalised modes Phi and modal damping c_j (requires Phi^T D Phi diagonal: classical
+    damping, e.g. Rayleigh). ``direct``: per-harmonic solves with Z_k.
+    """
+
+    def __init__(self, s: _Setup, kind: str, modal=None):
+        self.s = s
+        self.kind = kind
+        self.m = s.n_rows
+        self.N = self.m * s.nh
+        H = s.H
+        self.k = np.arange(H + 1)
+        Fc = np.zeros((H + 1, s.n), complex)
+        Fc[0] = s.F_ex[:, 0]
+        Fc[1:] = (s.F_ex[:, 1::2] - 1j * s.F_ex[:, 2::2]).T
+        self.Fc = Fc
+        self.ia = 2 * np.arange(1, H + 1) - 1
+        self.ib = self.ia + 1
+        if kind == "modal":
+            if modal is None:
+                w2, Phi = sla.eigh(_dense(s.K), _dense(s.M))
+                C = Phi.T @ _dense(s.D) @ Phi
+            else:
+                w2, Phi, C = modal
+            self.w2 = w2
+            self.c = np.diag(C).copy()
+            self.Phic = np.asarray(s.P @ Phi)          # (m, n_modes)
+            self.PhicT = self.Phic.T.astype(complex)
+            self.g = Fc @ Phi                           # (H+1, n_modes) modal forces
+            self.Phi = Phi
+        elif kind == "direct":
+            self.Pd = s.P.toarray()
+            self.sym = all(_is_symmetric(A) for A in (s.M, s.D, s.K))
+        else:
+            raise ModelError(f"unknown condensation kind {kind!r}")
+
+    # -------------------------------------------------------------------------
+    def compliance(self, omega, xi=0.0):
+        """R_k (H+1, m, m), dR_k/dOmega, u_lin,k (H+1, m), du_lin/dOmega (complex)."""
+        k = self.k[:, None]
+        if self.kind == "modal":
+            d = self.w2[None, :] - (k * omega) ** 2 + 1j * k * omega * self.c[None, :]
+            dd = -2.0 * k**2 * omega + 1j * k * self.c[None, :]
+            inv = 1.0 / d
+            dinv = -dd * inv**2
+            Pc = self.Phic
+            R = (Pc[None, :, :] * inv[:, None, :]) @ self.PhicT
+            dR = (Pc[None, :, :] * dinv[:, None, :]) @ self.PhicT
+            u = (self.g * inv) @ self.PhicT
+            du = (self.g * dinv) @ self.PhicT
+            return R, dR, u, du
+        return self._direct(omega)
+
+    def _direct(self, omega):
+        s = self.s
+        H = s.H
+        m = self.m
+        R = np.empty((H + 1, m, m), complex)
+        dR = np.empty_like(R)
+        u = np.empty((H + 1, m), complex)
+        du = np.empty_like(u)
+        rhs = np.concatenate([s.PT.toarray().astype(complex), self.Fc.T], axis=1)  # (n, m+H+1)
+        for kk in range(H + 1):
+            Z = s.K - (kk * omega) ** 2 * s.M + 1j * kk * omega * s.D
+            Zp = -2.0 * kk**2 * omega * s.M + 1j * kk * s.D
+            b = rhs[:, list(range(m)) + [m + kk]]
+            if sp.issparse(Z):
+                import scipy.sparse.linalg as spla
+
+                lu = spla.splu(sp.csc_matrix(Z))
+                G = lu.solve(b)
+                W = lu.solve(np.asarray(Zp @ G))
+            else:
+                lu = sla.lu_factor(np.asarray(Z), check_finite=False)
+                G = sla.lu_solve(lu, b, check_finite=False)
+                W = sla.lu_solve(lu, np.asarray(Zp) @ G, check_finite=False)
+            PG = self.Pd @ G
+            PW = self.Pd @ W
+            R[kk], u[kk] = PG[:, :m], PG[:, m]
+            dR[kk], du[kk] = -PW[:, :m], -PW[:, m]
+        return R, dR, u, du
+
+    def _real_blocks(self, R):
+        """Real (m nh, m nh) matrix of the complex per-harmonic compliance R (H+1, m, m)."""
+        s = self.s
+        nh, m = s.nh, self.m
+        T = np.zeros((nh, nh, m, m))
+        T[0, 0] = R[0].real
+        Rr, Ri = R[1:].real, R[1:].imag
+        T[self.ia, self.ia] = Rr
+        T[self.ia, self.ib] = Ri
+        T[self.ib, self.ia] = -Ri
+        T[self.ib, self.ib] = Rr
+        return T.transpose(2, 0, 3, 1).reshape(m * nh, m * nh)
+
+    def _to_complex(self, Y):
+        """(m, nh) real coefficients -> (H+1, m) phasors."""
+        C = np.empty((self.s.H + 1, Y.shape[0]), complex)
+        C[0] = Y[:, 0]
+        C[1:] = (Y[:, 1::2] - 1j * Y[:, 2::2]).T
+        return C
+
+    def _to_real(self, C):
+        s = self.s
+        Y = np.empty((C.shape[1], s.nh))
+        Y[:, 0] = C[0].real
+        Y[:, 1::2] = C[1:].real.T
+        Y[:, 2::2] = -C[1:].imag.T
+        return Y
+
+    def evaluate(self, y, omega, *, jacobian=True, scale=1.0, x_scale=1.0, load_scale=1.0):
+        s = self.s
+        Y = (y * x_scale).reshape(self.m, s.nh)
+        R, dR, ul, dul = self.compliance(omega)
+        if load_scale != 1.0:
+            ul = ul.copy()
+            dul = dul.copy()
+            ul[1:] *= load_scale
+            dul[1:] *= load_scale
+        res = aft(s.contacts, Y, omega, s.basis, jacobian=jacobian)
+        Fc = self._to_complex(res.force)
+        rc = (R @ Fc[:, :, None])[:, :, 0] - ul
+        drc = (dR @ Fc[:, :, None])[:, :, 0] - dul
+        r = Y + self._to_real(rc)
+        dr = self._to_real(drc)
+        J = None
+        Rr = None
+        if jacobian or res.d_omega is not None:
+            Rr = self._real_blocks(R)
+        if res.d_omega is not None:
+            dr = dr + (Rr @ res.d_omega.ravel()).reshape(dr.shape)
+        if jacobian:
+            nh = s.nh
+            J = np.eye(self.N)
+            for blk, rows in zip(res.jacobian, s.rows, strict=True):
+                nc, mm = blk.shape[0], blk.shape[1]
+                c0, c1 = rows.start * nh, rows.stop * nh
+                Rb = Rr[:, c0:c1].reshape(self.N, nc, mm)
+                J[:, c0:c1] += np.einsum("icj,cjk->ick", Rb, blk).reshape(self.N, c1 - c0)
+            J *= scale * x_scale
+        return r.ravel() * scale, J, dr.ravel() * scale, None, res
+
+    def to_dofs(self, y, omega, x_scale=1.0, load_scale=1.0):
+        """All-DOF harmonics (n, nh) from contact coordinates (one AFT, no Jacobian)."""
+        s = self.s
+        Y = (y * x_scale).reshape(self.m, s.nh)
+        res = aft(s.contacts, Y, omega, s.basis, jacobian=False)
+        Fnl = self._to_complex(res.force)                     # (H+1, m)
+        Fc = self.Fc.copy()
+        Fc[1:] *= load_scale
+        rhs = Fc - np.asarray(s.PT @ Fnl.T).T                 # (H+1, n)
+        k = self.k[:, None]
+        if self.kind == "modal":
+            d = self.w2[None, :] - (k * omega) ** 2 + 1j * k * omega * self.c[None, :]
+            Q = ((rhs @ self.Phi) / d) @ self.Phi.T
+        else:
+            Q = np.empty_like(rhs)
+            for kk in range(s.H + 1):
+                Z = s.K - (kk * omega) ** 2 * s.M + 1j * kk * omega * s.D
+                if sp.issparse(Z):
+                    import scipy.sparse.linalg as spla
+
+                    Q[kk] = spla.spsolve(sp.csc_matrix(Z), rhs[kk])
+                else:
+                    Q[kk] = np.linalg.solve(np.asarray(Z), rhs[kk])
+        return self._to_real(Q)
+
+
+def _is_symmetric(A) -> bool:
+    d = A - A.T
+    scale = abs(A).max() if A.shape[0] else 0.0
+    mx = abs(d).max() if (d.nnz if sp.issparse(d) else d.size) else 0.0
+    return bool(mx <= 1e-12 * max(scale, 1e-300))
+
+
+def _choose(s: _Setup, method: str):
+    """Pick the formulation: ("full"|"condensed", kind) for method auto/full/condensed."""
+    if method not in ("auto", "full", "condensed"):
+        raise ModelError(f"method must be 'auto', 'full' or 'condensed', got {method!r}")
+    if method == "full" or not s.contacts:
+        return _Full(s)
+    can_condense = s.n_rows < s.n or method == "condensed"
+    if can_condense:
+        kind = None
+        modal = None
+        if s.n <= 2000:
+            Md, Kd, Dd = _dense(s.M), _dense(s.K), _dense(s.D)
+            if _is_symmetric(Kd) and _is_symmetric(Dd):
+                w2, Phi = sla.eigh(Kd, Md)
+                C = Phi.T @ Dd @ Phi
+                modal = (w2, Phi, C)
+                off = np.abs(C - np.diag(np.diag(C))).max() if s.n > 1 else 0.0
+                if w2.min() > 1e-10 * max(w2.max(), 1e-300) and off <= 1e-9 * max(
+                        np.abs(C).max(), 1e-300):
+                    kind = "modal"
+                elif w2.min() <= 1e-10 * max(w2.max(), 1e-300):
+                    kind = "singular"
+        if kind is None:
+            try:
+                if sp.issparse(s.K):
+                    import scipy.sparse.linalg as spla
+
+                    spla.splu(sp.csc_matrix(s.K))
+                else:
+                    sla.lu_factor(_dense(s.K), check_finite=False)
+                    if np.linalg.cond(_dense(s.K)) > 1e13:
+                        raise np.linalg.LinAlgError
+                kind = "direct"
+            except (RuntimeError, np.linalg.LinAlgError, ValueError):
+                kind = "singular"
+        if kind != "singular":
+            return _Condensed(s, kind, modal if kind == "modal" else None)
+        if method == "condensed":
+            raise ModelError("method='condensed' needs a non-singular stiffness matrix K (the "
+                             "static compliance K^-1); this structure is held by its contacts "
+                             "only: use method='full'")
+    return _Full(s)

@@ -1,0 +1,310 @@
+"""Harmonic-balance results: :class:`SteadyState`, :class:`FrequencyResponse` and the
+post-processing that fills them (contact forces, energy balance per cycle, peak amplitudes).
+
+Used by the drivers of :mod:`fricdamp.solvers.hb`, which re-exports the public names.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fricdamp.solvers._hb_formulations import _Setup
+from fricdamp.solvers.aft import _synthesis, aft, cycle_work
+
+
+def _postprocess(s: _Setup, X: np.ndarray, omega: np.ndarray, xi=None, load_scale=None):
+    """Contact forces, energies and amplitudes of steady states X (n_p, n, nh)."""
+    n_p = X.shape[0]
+    nh = s.nh
+    U = np.zeros((n_p, s.n_rows, nh))
+    for p in range(n_p):
+        U[p] = s.P @ X[p]
+    Fn = np.zeros_like(U)
+    for p in range(n_p):
+        if s.n_rows:
+            Fn[p] = aft(s.contacts, U[p], float(omega[p]), s.basis, jacobian=False).force
+    Wrow = cycle_work(U, Fn)                                         # (n_p, n_rows)
+    Wc = np.zeros((n_p, s.n_contacts))
+    if s.n_rows:
+        np.add.at(Wc.T, s.contact_of_row, Wrow.T)
+    W_ext = cycle_work(X, np.broadcast_to(s.F_ex, X.shape)).sum(axis=1)
+    if load_scale is not None:     # the work of the static load over a cycle is zero
+        W_ext = W_ext * np.asarray(load_scale, dtype=float)
+    # viscous: Omega * pi * sum_k k^2 (a^T D a + b^T D b)
+    Dd = s.D
+    dX = X @ s.basis.d_dtau.T                                       # coefficients of dq/dtau
+    DdX = np.stack([np.asarray(Dd @ dX[p]) for p in range(n_p)]) if n_p else dX
+    W_visc = omega * np.pi * np.einsum("pnh,pnh->p", dX[:, :, 1:], DdX[:, :, 1:])
+    MdX = np.stack([np.asarray(s.M @ dX[p]) for p in range(n_p)]) if n_p else dX
+    # 2 pi x mean kinetic energy over the cycle [J]: the floor of the balance error
+    E_kin = omega**2 * np.pi * np.einsum("pnh,pnh->p", dX[:, :, 1:], MdX[:, :, 1:])
+    W_neg = None if xi is None else xi / omega * E_kin
+    amp = peak_amplitude(X)
+    return dict(U=U, F=Fn, W_contact=Wc, W_ext=W_ext, W_visc=W_visc, W_neg=W_neg, amp=amp,
+                E_kin=E_kin)
+
+
+def peak_amplitude(X: np.ndarray, n_grid: int = 128) -> np.ndarray:
+    """``max_tau |x(tau) - c0|`` of signals with coefficients X (..., 2H+1), shape (...).
+
+    Grid search on ``n_grid`` phases, then three Newton steps on dx/dtau = 0 from the best
+    sample (the extremum of a trigonometric polynomial to machine precision).
+    """
+    X = np.asarray(X, dtype=float)
+    shape = X.shape[:-1]
+    C = X.reshape(-1, X.shape[-1]).copy()
+    C[:, 0] = 0.0
+    H = (C.shape[1] - 1) // 2
+    if C.shape[0] == 0:
+        return np.zeros(shape)
+    xs = C @ _fine_synthesis(H, n_grid).T                       # (m, n_grid)
+    i = np.argmax(np.abs(xs), axis=1)
+    sgn = np.sign(xs[np.arange(C.shape[0]), i])
+    tau = 2 * np.pi * i / n_grid
+    k = np.arange(1, H + 1)
+    a, b = C[:, 1::2], C[:, 2::2]
+    for _ in range(3):
+        ck, sk = np.cos(np.outer(tau, k)), np.sin(np.outer(tau, k))
+        d1 = np.sum(k * (-a * sk + b * ck), axis=1)
+        d2 = np.sum(-(k**2) * (a * ck + b * sk), axis=1)
+        ok = d2 * sgn < 0
+        tau = np.where(ok, tau - d1 / np.where(ok, d2, 1.0), tau)
+    ck, sk = np.cos(np.outer(tau, k)), np.sin(np.outer(tau, k))
+    val = np.abs(np.sum(a * ck + b * sk, axis=1))
+    return np.maximum(val, np.abs(xs).max(axis=1)).reshape(shape)
+
+
+_FINE: dict[int, np.ndarray] = {}
+
+
+def _fine_synthesis(H: int, n_t: int = 256) -> np.ndarray:
+    key = (H, n_t)
+    if key not in _FINE:
+        _FINE[key] = _synthesis(H, n_t)
+    return _FINE[key]
+
+
+def _balance_error(W_in, W_out, E_ref):
+    """|W_in - W_out| / max(|W_in|, |W_out|, 1e-8 E_ref): 0 for a conservative cycle."""
+    den = np.maximum(np.maximum(np.abs(W_in), np.abs(W_out)), 1e-8 * np.abs(E_ref))
+    return np.abs(W_in - W_out) / np.maximum(den, 1e-300)
+
+
+@dataclass(frozen=True, eq=False)
+class SteadyState:
+    """One periodic steady state from :func:`harmonic_balance`.
+
+    Attributes
+    ----------
+    omega : float
+        Excitation (fundamental) angular frequency [rad/s].
+    coefficients : ndarray, shape (n_dof, 2H+1)
+        Real harmonic coefficients ``[c0, a1, b1, ..., aH, bH]`` of every DOF [m].
+    amplitude : ndarray, shape (n_dof,)
+        Largest excursion from the mean over the period, ``max_t |q(t) - c0|`` [m].
+    contact_displacement, contact_force : ndarray, shape (n_rows, 2H+1)
+        Harmonics of the local relative displacements [m] and contact forces [N].
+    dissipated_energy : ndarray, shape (n_contacts,)
+        ``oint f . du`` per contact per cycle [J].
+    external_work, viscous_dissipation : float
+        Work of the loads and of the viscous damping per cycle [J].
+    energy_balance_error : float
+        ``|W_ext - W_visc - sum W_contact| / max(...)``.
+    success : bool
+    status : int
+        0 converged; 1 Newton failed: every array is then NaN (no solution is returned).
+    message : str
+    iterations : int
+    residual_norm : float
+        Max-norm of the scaled residual.
+    harmonics, samples : int
+    method : str
+    """
+
+    omega: float
+    coefficients: np.ndarray
+    amplitude: np.ndarray
+    contact_displacement: np.ndarray
+    contact_force: np.ndarray
+    dissipated_energy: np.ndarray
+    external_work: float
+    viscous_dissipation: float
+    energy_balance_error: float
+    success: bool
+    status: int
+    message: str
+    iterations: int
+    residual_norm: float
+    harmonics: int
+    samples: int
+    method: str
+    dof_names: tuple[str, ...] = ()
+    contact_names: tuple[str, ...] = ()
+
+    def time_history(self, n_samples: int = 256) -> tuple[np.ndarray, np.ndarray]:
+        """One period: times t [s] shape (n_samples,) and q(t) shape (n_samples, n_dof)."""
+        S = _fine_synthesis(self.harmonics, int(n_samples))
+        t = 2 * np.pi * np.arange(n_samples) / n_samples / self.omega
+        return t, S @ self.coefficients.T
+
+
+@dataclass(frozen=True, eq=False)
+class FrequencyResponse:
+    """Frequency response curve from :func:`frequency_response` (converged points only).
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n_points,)
+        Excitation angular frequency [rad/s] along the path (not monotone past folds).
+    coefficients : ndarray, shape (n_points, n_dof, 2H+1)
+        Harmonic coefficients of the DOFs [m] (see :mod:`fricdamp.solvers.aft`).
+    amplitude : ndarray, shape (n_points, n_dof)
+        ``max_t |q(t) - mean|`` [m].
+    fundamental : ndarray, shape (n_points, n_dof)
+        Amplitude of the first harmonic ``sqrt(a1^2 + b1^2)`` [m].
+    contact_displacement, contact_force : ndarray, shape (n_points, n_rows, 2H+1)
+        Harmonics of the contact relative displacements [m] and forces [N].
+    dissipated_energy : ndarray, shape (n_points, n_contacts)
+        Energy dissipated per cycle by each contact [J].
+    external_work, viscous_dissipation : ndarray, shape (n_points,)
+        Per cycle [J].
+    energy_balance_error : ndarray, shape (n_points,)
+        Relative energy balance error of each point.
+    iterations : ndarray, shape (n_points,)
+        Newton iterations per point.
+    turning_points : tuple of int
+        Indices of points after which Omega turns back (folds).
+    status : int
+        0 success; 1 max points; 2 stalled; 3 turned back; 4 callback; -1 no start point.
+    message : str
+    harmonics, samples : int
+    method : str
+        Formulation used ("full-dense", "full-sparse", "condensed-modal", ...).
+    wall_time : float
+        Seconds spent in the continuation.
+    n_evaluations, n_factorizations : int
+    dof_names, contact_names : tuple of str
+    load_scale : ndarray, shape (n_points,)
+        Factor on the harmonic loads (1 for a frequency response; the continued parameter
+        of :func:`load_response`).
+    parameter : str
+        The continued parameter: "omega" or "load".
+    """
+
+    omega: np.ndarray
+    coefficients: np.ndarray
+    amplitude: np.ndarray
+    fundamental: np.ndarray
+    contact_displacement: np.ndarray
+    contact_force: np.ndarray
+    dissipated_energy: np.ndarray
+    external_work: np.ndarray
+    viscous_dissipation: np.ndarray
+    energy_balance_error: np.ndarray
+    iterations: np.ndarray
+    turning_points: tuple[int, ...]
+    status: int
+    message: str
+    harmonics: int
+    samples: int
+    method: str
+    wall_time: float
+    n_evaluations: int
+    n_factorizations: int
+    dof_names: tuple[str, ...] = ()
+    contact_names: tuple[str, ...] = ()
+    load_scale: np.ndarray | None = None
+    parameter: str = "omega"
+
+    @property
+    def success(self) -> bool:
+        return self.status == 0
+
+    @property
+    def n_points(self) -> int:
+        return int(self.omega.size)
+
+    def steady_state(self, i: int) -> SteadyState:
+        """Point ``i`` as a :class:`SteadyState`."""
+        return SteadyState(float(self.omega[i]), self.coefficients[i], self.amplitude[i],
+                           self.contact_displacement[i], self.contact_force[i],
+                           self.dissipated_energy[i], float(self.external_work[i]),
+                           float(self.viscous_dissipation[i]),
+                           float(self.energy_balance_error[i]), True, 0, "converged",
+                           int(self.iterations[i]), 0.0, self.harmonics, self.samples,
+                           self.method, self.dof_names, self.contact_names)
+
+    def peak(self, dof: int = 0, *, refine: bool = True) -> tuple[float, float]:
+        """(Omega [rad/s], amplitude [m]) of the largest ``amplitude`` of ``dof``.
+
+        With ``refine`` the vertex of the parabola through the largest point and its two
+        neighbours (when they bracket it in Omega) is returned instead of the point itself.
+        """
+        A = self.amplitude[:, dof]
+        i = int(np.argmax(A))
+        w, a = float(self.omega[i]), float(A[i])
+        if refine and 0 < i < A.size - 1:
+            x = self.omega[i - 1: i + 2]
+            y = A[i - 1: i + 2]
+            if (x[1] - x[0]) * (x[2] - x[1]) > 0:
+                c2, c1, c0 = np.polyfit(x - x[1], y, 2)
+                if c2 < 0:
+                    xv = -c1 / (2 * c2)
+                    if min(x[0], x[2]) - x[1] <= xv <= max(x[0], x[2]) - x[1]:
+                        w, a = float(x[1] + xv), float(c0 - c1**2 / (4 * c2))
+        return w, a
+
+    def to_xarray(self):
+        """``xarray.Dataset`` with dimensions point, dof, coefficient, row, contact."""
+        import xarray as xr
+
+        H = self.harmonics
+        coef = ["c0"] + [f"{ab}{k}" for k in range(1, H + 1) for ab in ("a", "b")]
+        dofs = list(self.dof_names) or [f"q{i + 1}" for i in range(self.coefficients.shape[1])]
+        contacts = list(self.contact_names) or [
+            f"c{i}" for i in range(self.dissipated_energy.shape[1])]
+        ds = xr.Dataset(
+            {
+                "coefficients": (("point", "dof", "coefficient"), self.coefficients,
+                                 {"units": "m"}),
+                "amplitude": (("point", "dof"), self.amplitude, {"units": "m"}),
+                "fundamental": (("point", "dof"), self.fundamental, {"units": "m"}),
+                "contact_displacement": (("point", "row", "coefficient"),
+                                         self.contact_displacement, {"units": "m"}),
+                "contact_force": (("point", "row", "coefficient"), self.contact_force,
+                                  {"units": "N"}),
+                "dissipated_energy": (("point", "contact"), self.dissipated_energy,
+                                      {"units": "J"}),
+                "external_work": (("point",), self.external_work, {"units": "J"}),
+                "viscous_dissipation": (("point",), self.viscous_dissipation, {"units": "J"}),
+                "energy_balance_error": (("point",), self.energy_balance_error),
+                "iterations": (("point",), self.iterations),
+                "load_scale": (("point",), np.ones(self.omega.size) if self.load_scale is None
+                               else self.load_scale),
+            },
+            coords={"omega": (("point",), self.omega, {"units": "rad/s"}),
+                    "dof": dofs, "coefficient": coef, "contact": contacts},
+            attrs={"harmonics": H, "samples": self.samples, "status": self.status,
+                   "message": self.message, "method": self.method},
+        )
+        return ds
+
+    def plot(self, dof: int = 0, ax=None, **kwargs):
+        """Amplitude of ``dof`` vs excitation frequency [Hz] (or load scale); returns axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        name = self.dof_names[dof] if self.dof_names else f"q{dof + 1}"
+        if self.parameter == "load":
+            ax.plot(self.load_scale, self.amplitude[:, dof], **kwargs)
+            ax.set_xlabel("load scale [-]")
+        else:
+            ax.plot(self.omega / (2 * np.pi), self.amplitude[:, dof], **kwargs)
+            ax.set_xlabel("excitation frequency [Hz]")
+        ax.set_ylabel(f"amplitude of {name} [m]")
+        if not self.success:
+            ax.set_title(f"incomplete: {self.message}", fontsize="small")
+        return ax
