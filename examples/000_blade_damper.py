@@ -214,7 +214,7 @@ def main(out_dir="000_blade_damper_out", *, quick: bool = False) -> dict:
              "time_in_configuration_s": tr.time_in_configuration,
              "n_events": int(r.n_events), "energy_balance_error": r.energy_balance_error,
              "q4_amplitude_m": 0.5 * float(np.ptp(tr.phase_plot(3, 3.0)[1])),
-             "errors": list(tr.errors), "restarts": int(r.meta.get("restarts", 0))}
+             "errors": list(tr.errors)}
     # Fig. 12: design study (F_Z = m_D a_c, a_c = 1e5 m/s^2)
     if quick:
         ds = design_study(base.with_(excitation_amplitude=DESIGN_FE), (2e-3, 4e-3), (50.0,),

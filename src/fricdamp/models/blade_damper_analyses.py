@@ -37,8 +37,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
-from fricdamp.models._blade_damper_runs import simulate as _simulate
 from fricdamp.models.blade_damper import BladeDamperParameters, BladeDamperSystem
+from fricdamp.solvers.event import simulate_events
 
 __all__ = [
     "CONFIGURATIONS",
@@ -362,8 +362,9 @@ def time_response(params=None, periods: float = 20.0, *, y0=None, t_start: float
     if y0 is None:
         y0 = np.concatenate([s.static_equilibrium().q, np.zeros(7)])
     n = int(np.ceil(periods * samples_per_period)) + 1
-    res = _simulate(s, t0, t1, as_finite_array("y0", y0), np.linspace(t0, t1, n), rtol=rtol,
-                    atol=atol, max_events=max_events)
+    res = simulate_events(s, (t0, t1), as_finite_array("y0", y0),
+                          t_eval=np.linspace(t0, t1, n), rtol=rtol, atol=atol,
+                          max_events=max_events, throw=False)
     if throw and not res.success:
         raise ConvergenceError(res.message)
     return _wrap(res, p)
@@ -384,8 +385,7 @@ def _wrap(res, p) -> TimeResponse:
     return TimeResponse(result=res, configuration=conf, time_in_configuration=tic,
                         min_normal_force=minN, errors=tuple(errors),
                         meta={"excitation_frequency": p.excitation_frequency,
-                              "excitation_amplitude": p.excitation_amplitude,
-                              "restarts": res.meta.get("restarts", 0)})
+                              "excitation_amplitude": p.excitation_amplitude})
 
 
 # ===================================================================== pull-off check

@@ -252,3 +252,52 @@ def spectral_energy(P, xc, mu, t0, times, h, gx, gw, Fx, Eqd, D, ElamT, Egam):
         out[1, k + 1] = acc1
         out[2, k + 1] = acc2
     return out
+
+
+@njit(cache=True)
+def small_lu_solve(A, B):
+    """Solve ``A X = B`` for a small dense A by LU with partial pivoting (A, B unchanged).
+
+    Returns ``(X, ratio)`` with ``ratio = min |u_ii| / max |u_ii|`` of the U factor, the
+    caller's test for (numerically) redundant constraints; X is undefined when ratio is 0.
+    The configuration solves of the event solver are 1-10 unknowns; this avoids the
+    per-call overhead of the LAPACK wrappers, which dominates at that size.
+    """
+    n = A.shape[0]
+    LU = A.copy()
+    X = B.copy()
+    for k in range(n):
+        p = k
+        big = abs(LU[k, k])
+        for i in range(k + 1, n):
+            if abs(LU[i, k]) > big:
+                big = abs(LU[i, k])
+                p = i
+        if p != k:
+            for j in range(n):
+                LU[k, j], LU[p, j] = LU[p, j], LU[k, j]
+            for j in range(X.shape[1]):
+                X[k, j], X[p, j] = X[p, j], X[k, j]
+        if LU[k, k] == 0.0:
+            continue
+        for i in range(k + 1, n):
+            f = LU[i, k] / LU[k, k]
+            LU[i, k] = f
+            for j in range(k + 1, n):
+                LU[i, j] -= f * LU[k, j]
+            for j in range(X.shape[1]):
+                X[i, j] -= f * X[k, j]
+    umin, umax = np.inf, 0.0
+    for k in range(n):
+        u = abs(LU[k, k])
+        umin = min(umin, u)
+        umax = max(umax, u)
+    if umin == 0.0:
+        return X, 0.0
+    for k in range(n - 1, -1, -1):
+        for j in range(X.shape[1]):
+            s = X[k, j]
+            for i in range(k + 1, n):
+                s -= LU[k, i] * X[i, j]
+            X[k, j] = s / LU[k, k]
+    return X, umin / umax

@@ -142,7 +142,16 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None):
 # DOP853 phases of a general ConstrainedSystem
 # =====================================================================================
 class NumericalPhase:
-    """One phase of a general system integrated by DOP853 with dense output."""
+    """One phase of a general system integrated by DOP853 with dense output.
+
+    The cumulative input, viscous and friction work of the phase are integrated with the state
+    (three extra components ``W' = P(t, q, q')``, evaluated from the same configuration solve
+    as the accelerations), so the energies come from the dense output at no extra solves and
+    with the integrator's order. They are excluded from the step-size control (their absolute
+    tolerance is infinite): the steps are those the motion needs, and the work integrals are
+    the Runge-Kutta quadrature of the power over them. A system without power hooks (NaN
+    input or viscous power) gets NaN energies.
+    """
 
     _interior = np.array([0.25, 0.5, 0.75, 1.0])
 
@@ -152,7 +161,7 @@ class NumericalPhase:
         self.sigma = np.array(sigma, dtype=float)
         self.t0 = float(t0)
         self.n = ev.n
-        self.y0 = np.concatenate([q0, qd0])
+        self.y0 = np.concatenate([q0, qd0, np.zeros(3)])
         self.kinds, self.contacts = event_list(self.modes, ev.constrained)
         self.rtol, self.atol, self.max_step = rtol, atol, max_step
         self.segments: list[tuple[float, float, object]] = []
@@ -163,20 +172,37 @@ class NumericalPhase:
         self._lim = mus[self.contacts]
         self._sgn = np.where(self.modes[self.contacts] == STICK, 0,
                              self.modes[self.contacts]).astype(float)
+        s = ev.system
+        self._has_power = np.array([np.isfinite(s.input_power(self.t0, q0, qd0)),
+                                    np.isfinite(s.viscous_power(self.t0, q0, qd0)), True])
+        # the state's tolerances as given; the work integrals are not step-size controlled
+        a = np.broadcast_to(np.asarray(atol, dtype=float), (2 * self.n,))
+        self._atol = np.concatenate([a, np.full(3, 1e300)])
 
     def _solve(self, t, y):
         n = self.n
-        pt = self.ev.point(t, y[:n], y[n:])
+        pt = self.ev.point(t, y[:n], y[n:2 * n])
         qdd, lamN, lamT = self.ev.solve(pt, self.modes, self.sigma)
         return pt, qdd[:, 0], lamN[:, 0], lamT[:, 0]
 
     def _rhs(self, t, y):
         self.n_rhs += 1
-        _, qdd, _, _ = self._solve(t, y)
-        return np.concatenate([y[self.n:], qdd])
+        n = self.n
+        pt, qdd, _, lamT = self._solve(t, y)
+        q, qd = y[:n], y[n:2 * n]
+        s = self.ev.system
+        p_in = s.input_power(t, q, qd) if self._has_power[0] else 0.0
+        p_visc = s.viscous_power(t, q, qd) if self._has_power[1] else 0.0
+        out = np.empty(2 * n + 3)
+        out[:n] = qd
+        out[n:2 * n] = qdd
+        out[2 * n] = p_in
+        out[2 * n + 1] = p_visc
+        out[2 * n + 2] = lamT @ (pt.WT.T @ qd)
+        return out
 
     def _g(self, t, y):
-        pt, _, lamN, lamT = self._solve(t, y)
+        pt, _, lamN, lamT = self._solve(t, y[:2 * self.n])
         gam = pt.WT.T @ pt.qd
         self.vel_scale = np.maximum(self.vel_scale, np.abs(pt.WT).T @ np.abs(pt.qd))
         c = self.contacts
@@ -195,7 +221,7 @@ class NumericalPhase:
     def y(self, t):
         """State at times t (n_t,) from the dense output, shape (2 n, n_t)."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.empty((2 * self.n, t.size))
+        out = np.empty((2 * self.n + 3, t.size))
         starts = np.array([s[0] for s in self.segments])
         idx = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.segments) - 1)
         for j in np.unique(idx):
@@ -212,7 +238,7 @@ class NumericalPhase:
             return self._integrate_to(t_end)
         g0, sc0 = self._g(self.t0, self.y0)
         self._scale = sc0
-        solver = DOP853(self._rhs, self.t0, self.y0, t_end, rtol=self.rtol, atol=self.atol,
+        solver = DOP853(self._rhs, self.t0, self.y0, t_end, rtol=self.rtol, atol=self._atol,
                         max_step=self.max_step)
         g_prev, t_prev = g0, self.t0
         first = True
@@ -239,7 +265,7 @@ class NumericalPhase:
         return None
 
     def _integrate_to(self, t_end):
-        solver = DOP853(self._rhs, self.t0, self.y0, t_end, rtol=self.rtol, atol=self.atol,
+        solver = DOP853(self._rhs, self.t0, self.y0, t_end, rtol=self.rtol, atol=self._atol,
                         max_step=self.max_step)
         while solver.status == "running":
             msg = solver.step()
@@ -256,8 +282,15 @@ class NumericalPhase:
         lamN = np.empty((nt, nc))
         lamT = np.empty((nt, nc))
         for j in range(nt):
-            _, _, lamN[j], lamT[j] = self._solve(float(np.atleast_1d(t)[j]), Y[:, j])
-        return Y[:n].T, Y[n:].T, lamN, lamT
+            _, _, lamN[j], lamT[j] = self._solve(float(np.atleast_1d(t)[j]), Y[:2 * n, j])
+        return Y[:n].T, Y[n:2 * n].T, lamN, lamT
+
+    def energy(self, times):
+        """Cumulative input, viscous and friction work [J] from ``times[0]``, (3, n_times)."""
+        W = self.y(times)[2 * self.n:]
+        W = W - W[:, :1]
+        W[~self._has_power] = np.nan
+        return W
 
     def powers(self, t):
         t = np.atleast_1d(t)
@@ -268,8 +301,8 @@ class NumericalPhase:
         p_visc = np.empty(t.size)
         p_fric = np.empty(t.size)
         for j, tj in enumerate(t):
-            q, qd = Y[:n, j], Y[n:, j]
-            pt, _, _, lamT = self._solve(float(tj), Y[:, j])
+            q, qd = Y[:n, j], Y[n:2 * n, j]
+            pt, _, _, lamT = self._solve(float(tj), Y[:2 * n, j])
             p_in[j] = s.input_power(float(tj), q, qd)
             p_visc[j] = s.viscous_power(float(tj), q, qd)
             p_fric[j] = float(lamT @ (pt.WT.T @ qd))

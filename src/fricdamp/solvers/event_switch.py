@@ -60,6 +60,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.solvers.event_kernels import small_lu_solve
 
 log = logging.getLogger(__name__)
 
@@ -198,10 +199,10 @@ class Evaluator:
             if d[0] > 0:
                 return rhs / A[0, 0]
         else:
-            lu, piv = sla.lu_factor(A, check_finite=False)
-            u = np.abs(np.diag(lu))
-            if u.min() > 1e-13 * u.max():
-                return sla.lu_solve((lu, piv), rhs, check_finite=False)
+            x, ratio = small_lu_solve(np.ascontiguousarray(A, dtype=float),
+                                      np.ascontiguousarray(rhs, dtype=float))
+            if ratio > 1e-13:
+                return x
         # redundant constraints (e.g. two stuck contacts fixing the same motion): the
         # multipliers are not unique; take the minimum-norm set (q'' is still unique).
         self.n_singular += 1
