@@ -381,3 +381,33 @@ def test_identically_zero_reserves_do_not_chatter():
     assert len(res.events) == 0
     np.testing.assert_array_equal(res.q, 0.0)
     np.testing.assert_allclose(res.lambda_T[-1], [-0.1, 0.0], atol=1e-15)
+
+
+@pytest.mark.parametrize("method", ["exact", "dop853"])
+def test_frictionless_contact_gives_the_linear_solution(method):
+    """mu_static = mu_sliding = 0 on one of two contacts of a 2-DOF chain: that contact has
+    no friction events and carries no force, so with the other contact frictionless too the
+    free vibration is the linear one, q(t) = V cos(w t) V^T M q0 (closed form), to 1e-12
+    (exact phases: round-off) or 1e-8 (DOP853 at rtol 1e-11), with zero friction work; with
+    the other contact rough, only that contact has events."""
+    K = np.array([[2.0, -1.0], [-1.0, 2.0]])
+    s = MechanicalSystem(M=np.eye(2), K=K)
+    cs = CoulombSystem(s, directions=np.eye(2), normal_load=[1.0, 1.0], mu_static=0.0)
+    q0 = np.array([1.0, -0.3])
+    t = np.linspace(0.0, 20.0, 201)
+    res = simulate_events(cs, (0.0, 20.0), np.r_[q0, 0.0, 0.0], t_eval=t, method=method,
+                          rtol=1e-11, atol=1e-13)
+    lam, V = np.linalg.eigh(K)
+    w = np.sqrt(lam)
+    ref = (V @ (np.cos(np.outer(w, res.t)) * (V.T @ q0)[:, None])).T
+    tol = 1e-12 if method == "exact" else 1e-8
+    np.testing.assert_allclose(res.q, ref, atol=tol)
+    assert res.n_events == 0 and np.all(res.lambda_T == 0.0)
+    assert res.energy["friction_dissipation"][-1] == 0.0
+    rough = CoulombSystem(s, directions=np.eye(2), normal_load=[1.0, 1.0],
+                          mu_static=[0.0, 0.05])
+    res = simulate_events(rough, (0.0, 20.0), np.r_[q0, 0.0, 0.0], method=method,
+                          rtol=1e-11, atol=1e-13)
+    assert res.n_events > 0 and {e.contact for e in res.events} == {1}
+    assert np.all(res.lambda_T[:, 0] == 0.0)
+    assert res.energy_balance_error < 1e-8

@@ -80,14 +80,13 @@ def test_energy_balance_of_forced_stick_slip():
 
 @pytest.mark.parametrize("mode", [2, 4], ids=["platform", "rocking"])
 def test_frictionless_motion_follows_sliding_linearisation_to_second_order(mode):
-    """With (practically) no friction and no damping, a free vibration started in an
+    """Without friction and damping, a free vibration started in an
     eigenmode of the free-sliding linearisation (000 (1)) stays in it: the deviation from
     the linear solution over one period is O(eps^2) or smaller. Halving the amplitude divides
     deviation/eps by 2 (quadratic terms; 4 for the rocking mode, whose symmetry cancels
-    them): accepted 1.7-4.6; at eps the deviation is below 5 % of eps.
-    mu = 1e-9 instead of 0: the friction force (1e-7 N) changes the motion by ~1e-8
-    relative, and the solver's friction complementarity problem is degenerate at mu = 0."""
-    p = BladeDamperParameters(mu_static=1e-9, mu_sliding=1e-9,
+    them): accepted 1.7-4.6; at eps the deviation is below 5 % of eps. mu = 0 exactly: the
+    frictionless contacts have no friction events at all."""
+    p = BladeDamperParameters(mu_static=0.0, mu_sliding=0.0,
                               dampings=(0.0, 0.0, 0.0, 0.0), excitation_amplitude=0.0)
     s = BladeDamperSystem(p)
     L = s.sliding_system()
@@ -107,6 +106,7 @@ def test_frictionless_motion_follows_sliding_linearisation_to_second_order(mode)
         scale = np.maximum(np.abs(eps * phi), 1e-3 * np.abs(eps * phi).max())
         rel.append(np.max(np.abs(r.q[:, :5] - lin) / scale))
         assert r.energy_balance_error < 1e-7
+        assert r.n_events == 0 and abs(r.energy["friction_dissipation"][-1]) == 0.0
     assert rel[0] < 0.05
     assert 1.7 < rel[0] / rel[1] < 4.6
 

@@ -372,8 +372,9 @@ class _Run:
         # at rest within the phases' accuracy (a state that ended a numerical phase in stick
         # carries the integration error): put exactly at rest before deciding
         zero_tol = 1e3 * _EPS if self.lf is not None else max(1e3 * _EPS, self.rtol)
-        cand = np.abs(gam) <= zero_tol * vs
-        modes = np.where(cand, STICK, np.sign(gam)).astype(int)
+        cand = (np.abs(gam) <= zero_tol * vs) & ~ev.frictionless
+        modes = np.where(cand, STICK, np.where(gam < 0, SLIP_NEG, SLIP_POS))
+        modes[ev.frictionless] = SLIP_POS
         if cand.any():
             self._project(modes)
             q, qd = self.q, self.qd
@@ -456,7 +457,8 @@ class _Run:
                 self.events.append(SwitchEvent(float(self.t), int(c), old, new, "normal"))
         gam, vs = self.decider.tangent_velocity(self.t, self.q, self.qd)
         vs = np.maximum(vs, phase.vel_scale)
-        cand = (self.modes == STICK) | fired_slip | (np.abs(gam) <= 1e3 * _EPS * vs)
+        cand = ((self.modes == STICK) | fired_slip | (np.abs(gam) <= 1e3 * _EPS * vs))
+        cand &= ~self.ev.frictionless
         # Every contact at zero slip velocity is put exactly there before deciding: a
         # numerical phase lets a stuck contact's velocity drift by its integration error, and
         # removing that drift afterwards (at the next phase's projection) would move the

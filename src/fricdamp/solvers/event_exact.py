@@ -142,7 +142,10 @@ class LinearConfig:
 
         # event functionals
         rows = []
+        frictionless = (np.asarray(mu_s) == 0) & (np.asarray(mu_d) == 0)
         for i in range(nc):
+            if frictionless[i]:
+                continue
             if S[i]:
                 lim = np.zeros(N)
                 lim[ik] = mu_s[i] * lf.normal_load[i]
@@ -151,7 +154,7 @@ class LinearConfig:
                 rows.append(s[i] * self.Egam[i])
         self.Eev = np.array(rows).reshape(-1, N)
         self.Eev_d = self.Eev @ A
-        self.kinds, self.contacts = event_list(modes, np.zeros(nc, dtype=bool))
+        self.kinds, self.contacts = event_list(modes, np.zeros(nc, dtype=bool), frictionless)
 
         # homogeneous + particular (eigen tier) when well conditioned
         self.eigen = False

@@ -44,11 +44,17 @@ class Hit:
     immediate: bool = False
 
 
-def event_list(modes, constrained):
-    """(kind, contact) of every event function of a configuration, as two int arrays."""
+def event_list(modes, constrained, frictionless=None):
+    """(kind, contact) of every event function of a configuration, as two int arrays.
+
+    A frictionless contact (``mu_static = mu_sliding = 0``, flagged in ``frictionless``) has no
+    friction events: its tangential force is zero whatever its slip velocity does.
+    """
     kinds, contacts = [], []
     for i, m in enumerate(modes):
-        if m == STICK:
+        if frictionless is not None and frictionless[i]:
+            pass
+        elif m == STICK:
             kinds += [EV_STICK_POS, EV_STICK_NEG]
             contacts += [i, i]
         else:
@@ -162,7 +168,7 @@ class NumericalPhase:
         self.t0 = float(t0)
         self.n = ev.n
         self.y0 = np.concatenate([q0, qd0, np.zeros(3)])
-        self.kinds, self.contacts = event_list(self.modes, ev.constrained)
+        self.kinds, self.contacts = event_list(self.modes, ev.constrained, ev.frictionless)
         self.rtol, self.atol, self.max_step = rtol, atol, max_step
         self.segments: list[tuple[float, float, object]] = []
         self.n_rhs = 0

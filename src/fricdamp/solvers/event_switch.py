@@ -96,6 +96,8 @@ class Evaluator:
         self.constrained = np.asarray(system.normal_constrained, dtype=bool).copy()
         self.mu_s = np.asarray(system.mu_static, dtype=float).copy()
         self.mu_d = np.asarray(system.mu_sliding, dtype=float).copy()
+        # no friction events (their tangential force is zero in any mode: kept in slip+)
+        self.frictionless = (self.mu_s == 0) & (self.mu_d == 0)
         self._mfac = None
         self._plans: dict = {}
         self.n_solves = 0
