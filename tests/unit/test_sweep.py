@@ -273,26 +273,82 @@ def test_save_sweep_writes_netcdf_summary_figures_report(tmp_path):
 
 
 # --------------------------------------------------------------------------------- dask
+def _worker_setup(dask_worker):
+    """Run on a Dask worker (``Client.run``): what the worker process was started with."""
+    import dask
+    from threadpoolctl import threadpool_info
+
+    return {"OPENBLAS_NUM_THREADS": os.environ.get("OPENBLAS_NUM_THREADS"),
+            "blas_threads": sorted({p["num_threads"] for p in threadpool_info()
+                                    if p["user_api"] == "blas"}),
+            "profile_config": dask.config.get("distributed.worker.profile.enabled"),
+            "profiling": "profile" in dask_worker.periodic_callbacks}
+
+
+#: Variables Dask's nanny sets in the parent to spawn workers, or that the cluster overrides.
+SPAWN_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+                   "NUMBA_NUM_THREADS", "MALLOC_TRIM_THRESHOLD_", "PYTHONHASHSEED")
+
+
 @pytest.fixture(scope="module")
-def loopback_cluster():
+def loopback_started():
     """A real dask.distributed scheduler and two worker processes on 127.0.0.1.
 
-    Started by :func:`open_client` exactly as ``sweep(client=None)`` starts its local cluster.
+    Started by :func:`open_client` exactly as ``sweep(client=None)`` starts its local cluster,
+    from a process whose environment asks for 3 OpenBLAS threads. Yields the client and this
+    process's spawn variables before the start and once the cluster runs.
     """
     pytest.importorskip("distributed")
     from fricdamp.studies import open_client
 
-    with open_client(None, n_workers=2) as client:
-        yield client
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("OPENBLAS_NUM_THREADS", "3")
+        env = {"before": {k: os.environ.get(k) for k in SPAWN_VARIABLES}}
+        with open_client(None, n_workers=2) as client:
+            env["running"] = {k: os.environ.get(k) for k in SPAWN_VARIABLES}
+            yield client, env
 
 
-def test_local_cluster_is_on_loopback_with_single_threaded_blas(loopback_cluster):
-    info = loopback_cluster.scheduler_info()
-    assert loopback_cluster.scheduler.address.startswith("tcp://127.0.0.1:")
+@pytest.fixture(scope="module")
+def loopback_cluster(loopback_started):
+    return loopback_started[0]
+
+
+def test_local_cluster_is_on_loopback_with_single_threaded_blas(loopback_started):
+    cluster, env = loopback_started
+    info = cluster.scheduler_info()
+    assert cluster.scheduler.address.startswith("tcp://127.0.0.1:")
     assert len(info["workers"]) == 2
     assert all(w["nthreads"] == 1 for w in info["workers"].values())
-    env = loopback_cluster.run(os.environ.get, "OPENBLAS_NUM_THREADS")
-    assert sorted(env.values()) == ["1", "1"]
+    # one BLAS thread in the workers although this process's environment asks for 3, and no
+    # statistical profiler (it stalls Python-bound tasks for the GIL every 10 ms)
+    expected = {"OPENBLAS_NUM_THREADS": "1", "blas_threads": [1], "profile_config": False,
+                "profiling": False}
+    assert list(cluster.run(_worker_setup).values()) == [expected, expected]
+    # this process's environment is left as it was
+    assert env["before"]["OPENBLAS_NUM_THREADS"] == "3"
+    assert env["running"] == env["before"]
+    # workers restarted by their nannies (after a crash, or on demand) are set up alike
+    cluster.restart()
+    assert list(cluster.run(_worker_setup).values()) == [expected, expected]
+
+
+def test_a_user_client_is_used_as_it_is():
+    """A Client given by the user is yielded unchanged: not reconfigured, not closed."""
+    distributed = pytest.importorskip("distributed")
+    from fricdamp.studies import open_client
+
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=":0") as cluster, \
+            distributed.Client(cluster) as client:
+        profiling = client.run(_worker_setup)
+        with open_client(client) as got:
+            assert got is client
+        ds = sweep(standin_where, {"x": [0.0, 1.0], "y": [0.0]}, client=client)
+        np.testing.assert_array_equal(ds["f"].values, [[0.0], [math.sin(1.0)]])
+        assert client.status == "running"
+        assert client.run(_worker_setup) == profiling  # its profiler is as it was (on)
+        assert all(s["profiling"] for s in profiling.values())
 
 
 def test_dask_sweep_equals_serial_sweep(loopback_cluster, tmp_path):
