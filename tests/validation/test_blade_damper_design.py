@@ -86,11 +86,17 @@ def test_friction_limits_the_resonance():
 
 
 def test_resonance_sweep_contract():
-    p = BladeDamperParameters(excitation_amplitude=3.0)
-    r = resonance_amplitude(p, [54.0, 56.0], chunk_periods=3.0, max_periods=6.0, tol=0.05)
+    p = BladeDamperParameters(excitation_amplitude=8.0)  # slips across the first resonance
+    r = resonance_amplitude(p, [50.5, 51.5], chunk_periods=3.0, max_periods=6.0, tol=0.05,
+                            resolution_hz=0.25)
     assert r["amplitude_m"].shape == (2,) and r["stuck"].dtype == bool
-    assert np.isfinite(r["peak_amplitude_m"]) and 54.0 <= r["peak_hz"] <= 56.0
-    assert r["peak_amplitude_m"] >= np.nanmax(r["amplitude_m"])
+    assert not r["stuck"].any()
+    assert np.isfinite(r["peak_amplitude_m"]) and 50.5 <= r["peak_hz"] <= 51.5
+    # the fine sweep fills the bracket of the largest sample in 0.25 Hz steps
+    np.testing.assert_allclose(r["refined_hz"], [50.75, 51.0, 51.25])
+    assert len(r["refined_amplitude_m"]) == 3
+    assert r["peak_amplitude_m"] >= max(np.nanmax(r["amplitude_m"]),
+                                        max(r["refined_amplitude_m"]))
 
 
 def test_design_study_rejects_bad_grids():

@@ -326,14 +326,20 @@ class DamperDesign(Section):
     parabolas: list[Annotated[list[float], Field(min_length=2, max_length=2)]] | None = Field(
         None, description="[p1 (1/m), p2 (m)] pairs; default the model's")
     n_frequencies: int = Field(6, ge=2, le=200, description="stepped-sine frequencies")
+    resolution_hz: Positive | None = Field(
+        0.25, description="step of the fine sweep around each resonance (None: no fine sweep)")
     centrifugal_acceleration_m_per_s2: Positive | None = Field(
         None, description="F_Z = m_D a_c (default: the model's F_Z / m_D)")
+    excitation_amplitude_N: Positive | None = Field(
+        None, description="overrides [model] excitation_amplitude_N")
 
 
 def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
     from fricdamp.models.blade_damper_analyses import default_design_band, design_study
 
     p = _model(obj).params
+    if spec.excitation_amplitude_N is not None:
+        p = p.with_(excitation_amplitude=spec.excitation_amplitude_N)
     if spec.parabolas is not None:
         for p1, p2 in spec.parabolas:
             if not (p1 < 0 < p2):
@@ -341,14 +347,28 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
                                 f"p1 < 0 1/m and p2 > 0 m, got [{p1}, {p2}]")
     t0 = time.perf_counter()
     f = default_design_band(p, spec.n_frequencies)
-    d = design_study(p, spec.damper_masses_kg, spec.gammas_deg,
-                     [tuple(x) for x in spec.parabolas] if spec.parabolas else None,
-                     frequency_hz=f,
-                     centrifugal_acceleration=spec.centrifugal_acceleration_m_per_s2)
+    bar = None
+    if ctx.progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=len(spec.damper_masses_kg) * len(spec.gammas_deg)
+                   * len(spec.parabolas or [None]), desc="damper designs", unit="design",
+                   leave=False)
+    try:
+        d = design_study(p, spec.damper_masses_kg, spec.gammas_deg,
+                         [tuple(x) for x in spec.parabolas] if spec.parabolas else None,
+                         frequency_hz=f, resolution_hz=spec.resolution_hz,
+                         centrifugal_acceleration=spec.centrifugal_acceleration_m_per_s2,
+                         progress=None if bar is None else lambda done, total: bar.update(1))
+    finally:
+        if bar is not None:
+            bar.close()
     design = d.to_dict()
     opt = design["optimum"]
     notes = [f"design point: {e}" for e in design.get("errors", [])][:10]
     summary = {"optimum": opt, "n_designs": int(np.size(d.blade_amplitude_m)),
+               "n_valid_designs": int(np.sum(d.valid)),
+               "excitation_amplitude_N": p.excitation_amplitude,
                "runtime_s_solver": time.perf_counter() - t0}
     headline = (f"{summary['n_designs']} designs; smallest resonant blade amplitude "
                 f"{opt['blade_amplitude_m']:.3g} m at m_D = {opt['damper_mass_kg']:g} kg, "
@@ -362,9 +382,16 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
                                           "blade 2")
         ax = axes[0, 0]
         fa, la = plot.si_scale(A, "m")
+        ok = np.asarray(design["parabolas"][0]["valid"], bool)
+        mg = np.asarray(design["damper_mass_kg"]) * 1e3
         for j, g in enumerate(design["gamma_deg"]):
-            ax.plot(np.asarray(design["damper_mass_kg"]) * 1e3, A[:, j] / fa, "o-", ms=4,
-                    label=f"gamma = {g:g} deg")
+            (line,) = ax.plot(mg, np.where(ok[:, j], A[:, j], np.nan) / fa, "o-", ms=4,
+                              label=f"gamma = {g:g} deg")
+            bad = ~ok[:, j] & np.isfinite(A[:, j])
+            if bad.any():
+                ax.plot(mg[bad], A[bad, j] / fa, "x", color=line.get_color(), ms=7)
+        if not ok.all():
+            ax.plot([], [], "kx", label="invalid (damper lifts off or solver failed)")
         ax.plot(opt["damper_mass_kg"] * 1e3, opt["blade_amplitude_m"] / fa, "k*", ms=12,
                 label="optimum")
         ax.set_xlabel("damper mass [g]")
@@ -382,14 +409,20 @@ class BladeResonance(Section):
     sine across the band of the first two modes (one point of a design study)."""
 
     n_frequencies: int = Field(6, ge=2, le=200, description="stepped-sine frequencies")
+    resolution_hz: Positive | None = Field(
+        0.25, description="step of the fine sweep around the resonance (None: no fine sweep)")
+    excitation_amplitude_N: Positive | None = Field(
+        None, description="overrides [model] excitation_amplitude_N")
 
 
 def run_blade_resonance(obj, spec: BladeResonance, ctx: RunContext) -> AnalysisOutput:
     from fricdamp.models.blade_damper_analyses import default_design_band, resonance_amplitude
 
     p = _model(obj).params
+    if spec.excitation_amplitude_N is not None:
+        p = p.with_(excitation_amplitude=spec.excitation_amplitude_N)
     f = default_design_band(p, spec.n_frequencies)
-    r = resonance_amplitude(p, f)
+    r = resonance_amplitude(p, f, resolution_hz=spec.resolution_hz)
     summary = {"blade_amplitude_m": float(r["peak_amplitude_m"]),
                "peak_frequency_hz": float(r["peak_hz"]),
                "damper_mass_kg": p.damper_mass, "gamma_deg": p.gamma_deg,

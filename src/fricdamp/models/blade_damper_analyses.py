@@ -565,7 +565,8 @@ def steady_state_amplitude(params, *, y0=None, t_start: float = 0.0,
 
 def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
                         max_periods: float = 96.0, tol: float = 0.05,
-                        rtol: float = 1e-7, n_fine: int = 401) -> dict:
+                        rtol: float = 1e-7, n_fine: int = 401,
+                        resolution_hz: float | None = 0.25) -> dict:
     """Steady q4 amplitude over a stepped-sine sweep and its maximum.
 
     Frequencies are visited in the given order; each event-driven run starts from the end
@@ -574,13 +575,21 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
     also scanned on ``n_fine`` frequencies across the band wherever it is valid (a lightly
     damped stuck resonance is narrower than the sweep's step).
 
+    Around the largest event-driven sample, a second stepped sine in steps of
+    ``resolution_hz`` runs from its lower to its upper neighbour, warm-started from the lower
+    one's end state (None: no refinement). The friction-damped resonance of the blades is
+    only a few hertz wide (000 Fig. 12 compares resonant amplitudes), narrower than a
+    sweep's step can resolve, and large steps leave transients that settle slowly in a
+    lightly damped structure; small steps settle in a few periods.
+
     Returns
     -------
     dict
         ``frequency_hz`` (n,), ``amplitude_m`` (n,), ``converged`` (n,) bool, ``stuck`` (n,)
-        bool (exact stuck steady state), ``peak_hz``, ``peak_amplitude_m`` (the largest of:
-        the fine stuck scan, the largest event-driven sample refined by a parabola through
-        it and its neighbours), ``errors`` (list of str).
+        bool (exact stuck steady state), ``peak_hz``, ``peak_amplitude_m`` (the largest
+        computed amplitude: fine stuck scan, sweep and refinement samples),
+        ``refined_hz``, ``refined_amplitude_m`` (the fine sweep's samples), ``errors``
+        (list of str).
     """
     s = _system(params)
     p = s.params
@@ -589,6 +598,7 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
     conv = np.zeros(f.size, dtype=bool)
     stuck = np.zeros(f.size, dtype=bool)
     errors: list[str] = []
+    ends: dict[int, tuple] = {}  # event-driven end state and excitation phase per sample
     y, phase = None, 0.0
     for i, fi in enumerate(f):
         pp = p.with_(excitation_frequency=float(fi))
@@ -602,6 +612,7 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
             y = ss.y_end
             t_end = (phase / w) + ss.periods / fi
             phase = (w * t_end) % (2 * np.pi)
+            ends[i] = (y, phase)
         else:  # stuck: exact steady state, restart from it at phase 0 next time
             y, phase = None, 0.0
     cands = []  # (amplitude, frequency)
@@ -612,19 +623,47 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
         j = int(np.argmax(np.where(valid, Ag, -np.inf)))
         cands.append((float(Ag[j]), float(fg[j])))
     ev = ~stuck & np.isfinite(amp)
+    refined: list[tuple[float, float]] = []  # (frequency, amplitude)
     if ev.any():
         k = int(np.argmax(np.where(ev, amp, -np.inf)))
         cands.append((float(amp[k]), float(f[k])))
-        if 0 < k < f.size - 1 and np.all(np.isfinite(amp[k - 1:k + 2])):
-            x, a = f[k - 1:k + 2], amp[k - 1:k + 2]
-            c = np.polyfit(x - x[1], a, 2)
-            if c[0] < 0:
-                xv = -c[1] / (2 * c[0])
-                if abs(xv) <= max(x[2] - x[1], x[1] - x[0]):
-                    cands.append((float(np.polyval(c, xv)), float(x[1] + xv)))
+        if resolution_hz is not None and not errors:
+            lo, hi = f[max(k - 1, 0)], f[min(k + 1, f.size - 1)]
+            start = ends.get(max(k - 1, 0))  # None: stuck there, start from the stuck state
+            if abs(hi - lo) > resolution_hz:
+                refined = _fine_sweep(p, lo, hi, start, float(resolution_hz), errors,
+                                      chunk_periods=chunk_periods, max_periods=max_periods,
+                                      tol=tol, rtol=rtol)
+            cands.extend((a, fr) for fr, a in refined)
     peak_a, peak_f = max(cands) if cands else (np.nan, np.nan)
     return {"frequency_hz": f, "amplitude_m": amp, "converged": conv, "stuck": stuck,
-            "peak_hz": peak_f, "peak_amplitude_m": peak_a, "errors": errors}
+            "peak_hz": peak_f, "peak_amplitude_m": peak_a,
+            "refined_hz": [fr for fr, _ in refined],
+            "refined_amplitude_m": [a for _, a in refined], "errors": errors}
+
+
+def _fine_sweep(p, lo, hi, start, step, errors, **steady) -> list[tuple[float, float]]:
+    """Stepped sine strictly between ``lo`` and ``hi`` [Hz] in steps of about ``step`` [Hz],
+    warm-started from ``start`` = (state at ``lo``, excitation phase), or from the stuck
+    steady state when ``start`` is None; returns the (frequency, amplitude) samples. Small
+    steps leave small transients, so each point settles in a few periods."""
+    n = max(2, int(np.ceil((hi - lo) / step)))
+    y, phase = start if start is not None else (None, 0.0)
+    out: list[tuple[float, float]] = []
+    for fv in np.linspace(lo, hi, n + 1)[1:-1]:
+        w = 2 * np.pi * fv
+        ss = steady_state_amplitude(p.with_(excitation_frequency=float(fv)), y0=y,
+                                    t_start=phase / w if y is not None else 0.0, **steady)
+        if ss.errors or not np.isfinite(ss.amplitude_m):
+            errors.extend(f"{fv:g} Hz: {e}" for e in ss.errors)
+            break
+        out.append((float(fv), float(ss.amplitude_m)))
+        if ss.periods > 0:
+            y = ss.y_end
+            phase = (phase + w * ss.periods / fv) % (2 * np.pi)  # phase is 0 after stuck
+        else:  # stuck: exact steady state
+            y, phase = None, 0.0
+    return out
 
 
 @dataclass(frozen=True)
@@ -718,7 +757,8 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
                  parabolas: Sequence[tuple[float, float]] | None = None, *,
                  frequency_hz=None, centrifugal_acceleration: float | None = None,
                  chunk_periods: float = 8.0, max_periods: float = 64.0, tol: float = 0.05,
-                 rtol: float = 1e-7, progress=None) -> DesignStudy:
+                 rtol: float = 1e-7, resolution_hz: float | None = 0.25,
+                 progress=None) -> DesignStudy:
     """Damper design study (000 Fig. 12): resonant blade amplitude q4 over m_D, gamma, parabola.
 
     Parameters
@@ -736,6 +776,9 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
         base design keeps its force; 100 N for 1 g is 1e5 m/s^2, a turbine's value).
     chunk_periods, max_periods, tol, rtol
         Steady-state settings (see :func:`steady_state_amplitude`).
+    resolution_hz : float or None
+        Step [Hz] of the fine sweep around each design's resonance (see
+        :func:`resonance_amplitude`).
     progress : callable, optional
         Called with ``(done, total)`` after each design.
 
@@ -770,7 +813,8 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
                 pp = base.with_(damper_mass=float(m), gamma_deg=float(g), p1=p1, p2=p2,
                                 centrifugal_force=float(m * ac))
                 r = resonance_amplitude(pp, f, chunk_periods=chunk_periods,
-                                        max_periods=max_periods, tol=tol, rtol=rtol)
+                                        max_periods=max_periods, tol=tol, rtol=rtol,
+                                        resolution_hz=resolution_hz)
                 amp[ip, im, ig] = r["peak_amplitude_m"]
                 fpk[ip, im, ig] = r["peak_hz"]
                 conv[ip, im, ig] = bool(np.all(r["converged"]))
