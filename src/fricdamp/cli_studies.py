@@ -47,7 +47,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fricdamp._version import __version__
-from fricdamp.errors import CaseError, ConvergenceError, ModelError
+from fricdamp.errors import CaseError
 
 __all__ = ["CasePoint", "add_subparsers", "handle_optimize", "handle_sweep", "load_study_case",
            "main"]
@@ -149,19 +149,10 @@ class CasePoint:
             raise CaseError(f"at {point}: {exc}") from None
 
     def __call__(self, **params) -> dict[str, float]:
-        from fricdamp.runner import REGISTRY, RunContext, build_system
+        from fricdamp.runner import compute_case
 
-        case = self.case(params)
-        system = build_system(case)
-        ctx = RunContext(case=case, solver=case.solver, progress=False)
         results: dict[str, float] = {}
-        for name, spec in case.analyses.items():
-            try:
-                out = REGISTRY.analyses[name].fn(system, spec, ctx)
-            except ConvergenceError as exc:
-                raise ConvergenceError(f"[analysis.{name}] {exc}") from exc
-            except ModelError as exc:
-                raise CaseError(f"[analysis.{name}] {exc}") from exc
+        for name, out in compute_case(self.case(params)).outputs.items():
             _flatten(name, out.summary, results)
         return results
 

@@ -17,8 +17,9 @@ and run a case. What a case may contain is the :data:`REGISTRY`:
 ``schema`` is a pydantic model (derive from :class:`fricdamp.case.Section` for the strict
 rules); the ``type`` key is removed from the table before it is validated.
 
-A run computes every analysis first and writes only then, each file atomically, so a failed
-run leaves no half-written result behind.
+A run computes every analysis first (:func:`compute_case`, which the design studies call at
+each point) and writes only then, each file atomically, so a failed run leaves no
+half-written result behind.
 """
 
 from __future__ import annotations
@@ -61,7 +62,9 @@ __all__ = [
     "RunContext",
     "RunOutcome",
     "attachment_projection",
+    "ComputedCase",
     "build_system",
+    "compute_case",
     "describe_system",
     "coulomb_loop_energy",
     "jenkins_loop_energy",
@@ -361,10 +364,84 @@ def build_system(case: Case, registry: Registry | None = None):
 
 
 # ================================================================================ running
+@dataclass(frozen=True)
+class ComputedCase:
+    """Result of :func:`compute_case`: the model and every analysis's output, nothing written.
+
+    Attributes
+    ----------
+    system : MechanicalSystem or ModelObject
+        What the ``[model]`` builder returned, with the ``[[contacts]]`` added.
+    outputs : dict of str -> AnalysisOutput
+        One output per ``[analysis.<name>]``, in the order of the case. Their summaries are
+        as the analyses returned them (:func:`run_case` adds ``runtime_s``).
+    runtimes_s : dict of str -> float
+        Wall-clock time of each analysis, s.
+    """
+
+    system: object
+    outputs: dict
+    runtimes_s: dict
+
+
+def compute_case(case: Case, *, registry: Registry | None = None, progress: bool = False,
+                 echo: Callable[[str], None] | None = None) -> ComputedCase:
+    """Build the model of ``case`` and run every analysis, in memory.
+
+    The computing half of :func:`run_case` (which writes the files) and the function a design
+    study evaluates at each point (:class:`fricdamp.cli_studies.CasePoint`).
+
+    Parameters
+    ----------
+    case : Case
+        A validated case (:func:`load_case`).
+    registry : Registry, optional
+        Default :data:`REGISTRY`.
+    progress : bool
+        Show progress bars of the solvers.
+    echo : callable, optional
+        Receives one line per analysis as it finishes, then one per note.
+
+    Returns
+    -------
+    ComputedCase
+
+    Raises
+    ------
+    CaseError
+        Invalid case or model (a ModelError of an analysis is reported as one, naming it).
+    ConvergenceError
+        A solver failed (the message names the analysis).
+    """
+    reg = registry or REGISTRY
+    system = build_system(case, reg)
+    ctx = RunContext(case=case, solver=case.solver, progress=progress)
+    outputs: dict[str, AnalysisOutput] = {}
+    runtimes: dict[str, float] = {}
+    for name, spec in case.analyses.items():
+        t_a = time.perf_counter()
+        try:
+            out = reg.analyses[name].fn(system, spec, ctx)
+        except ConvergenceError as exc:
+            raise ConvergenceError(f"[analysis.{name}] {exc}") from exc
+        except ModelError as exc:
+            raise CaseError(f"[analysis.{name}] {exc}") from exc
+        runtimes[name] = time.perf_counter() - t_a
+        outputs[name] = out
+        if echo is not None:
+            echo(f"  {name}: {out.headline}" if out.headline else f"  {name}: done")
+            for note in out.notes:
+                echo(f"  {name}: note: {note}")
+    return ComputedCase(system=system, outputs=outputs, runtimes_s=runtimes)
+
+
 def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = None,
              progress: bool = False, results_format: str = "nc",
              echo: Callable[[str], None] | None = None) -> RunOutcome:
     """Run every analysis of ``case`` and write the results into ``out_dir``.
+
+    The analyses are computed by :func:`compute_case`; each summary gets a ``runtime_s`` (s)
+    unless the analysis gave one.
 
     Parameters
     ----------
@@ -400,28 +477,14 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
     if results_format not in ("nc", "npz"):
         raise CaseError(f"results format must be 'nc' or 'npz', got {results_format!r}")
     reg = registry or REGISTRY
-    echo = echo or (lambda line: None)
     start = time.perf_counter()
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise CaseError(f"the output folder {str(out_dir)!r} is a file; choose another --out")
-    system = build_system(case, reg)
-    ctx = RunContext(case=case, solver=case.solver, progress=progress)
-
-    outputs: dict[str, AnalysisOutput] = {}
-    for name, spec in case.analyses.items():
-        t_a = time.perf_counter()
-        try:
-            out = reg.analyses[name].fn(system, spec, ctx)
-        except ConvergenceError as exc:
-            raise ConvergenceError(f"[analysis.{name}] {exc}") from exc
-        except ModelError as exc:
-            raise CaseError(f"[analysis.{name}] {exc}") from exc
-        out.summary.setdefault("runtime_s", time.perf_counter() - t_a)
-        outputs[name] = out
-        echo(f"  {name}: {out.headline}" if out.headline else f"  {name}: done")
-        for note in out.notes:
-            echo(f"  {name}: note: {note}")
+    computed = compute_case(case, registry=reg, progress=progress, echo=echo)
+    system, outputs = computed.system, computed.outputs
+    for name, out in outputs.items():
+        out.summary.setdefault("runtime_s", computed.runtimes_s[name])
     top_level = _top_level_keys(outputs)
 
     try:

@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from cli_cases import bad_params, contacts_refused, replace_once
 
 from fricdamp.runner import REGISTRY, AnalysisOutput, Registry, run_case
 
@@ -40,11 +41,6 @@ speed_max_rpm = 450.0
 n_speeds = 7
 orbit_speeds_rpm = [390.0]
 """
-
-
-def _replace(text: str, old: str, new: str) -> str:
-    assert old in text, old
-    return text.replace(old, new, 1)
 
 
 # (id, (old, new) substitution in CASE, substrings expected in the one-line message)
@@ -109,44 +105,28 @@ BAD = [
      ["orders lists an order twice"]),
     ("campbell_needs_one_f", ("shroud_mass_kg = 0.07", "friction_coefficient = [0.1, 0.2]"),
      ["[analysis.campbell] friction_coefficient: the model's is a pair [0.1, 0.2]"]),
-    ("contacts_refused", ("[analysis.campbell]", "[[contacts]]\ntype = \"jenkins\"\ndofs = [1]\n"
-                          "stiffness_N_per_m = 1.0e4\nslip_force_N = 1.0\n\n[analysis.campbell]"),
-     ["[[contacts]] cannot be added", "'blade_pair'"]),
+    contacts_refused("[analysis.campbell]", "blade_pair"),
 ]
 
 
-@pytest.mark.parametrize("old_new, expected", [(b[1], b[2]) for b in BAD],
-                         ids=[b[0] for b in BAD])
-def test_invalid_input_exits_2_with_one_clear_line(cli, write_case, old_new, expected):
-    path = write_case(_replace(CASE, *old_new))
-    code, out, err = cli("check", path)
-    assert code == 2, (out, err)
-    line = err.strip()
-    assert "\n" not in line and "Traceback" not in line, err
-    for piece in expected:
-        assert piece in line, (piece, line)
+@pytest.mark.parametrize("old_new, expected", bad_params(BAD))
+def test_invalid_input_exits_2_with_one_clear_line(rejects, old_new, expected):
+    rejects(replace_once(CASE, *old_new), expected)
 
 
-def test_blade_pair_analyses_need_the_blade_pair_model(cli, write_case, base_case):
+def test_blade_pair_analyses_need_the_blade_pair_model(rejects, base_case):
     """[analysis.campbell] on a chain model: exit 2 naming the model type it needs."""
-    path = write_case(base_case + "\n[analysis.campbell]\nn_speeds = 3\n")
-    code, _, err = cli("check", path)
-    assert code == 2
-    assert "[analysis.campbell] needs [model] type = 'blade_pair'" in err
+    rejects(base_case + "\n[analysis.campbell]\nn_speeds = 3\n",
+            ["[analysis.campbell] needs [model] type = 'blade_pair'"])
 
 
-def test_generic_analyses_refused_on_the_blade_pair_model(cli, write_case, tmp_path):
+def test_generic_analyses_refused_on_the_blade_pair_model(rejects):
     """A MechanicalSystem analysis on the paper-001 model: exit 2 (not an internal error),
     saying which analyses apply; nothing is written."""
     text = ('[model]\ntype = "blade_pair"\n\n[analysis.forced_response]\n'
             "force_amplitude_N = [" + ", ".join(["1.0"] + ["0.0"] * 77) + "]\n"
             "frequency_hz = 100.0\nperiods = 2\nsteps_per_period = 16\n")
-    out = tmp_path / "out"
-    code, _, err = cli("run", write_case(text), "--out", out)
-    assert code == 2, err
-    assert "not a MechanicalSystem" in err and "[analysis.campbell]" in err
-    assert "Traceback" not in err and "internal error" not in err
-    assert not out.exists()
+    rejects(text, ["not a MechanicalSystem", "[analysis.campbell]"], commands=("run",))
 
 
 def test_schema_defaults_are_the_library_defaults():

@@ -10,12 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.io
-
-
-def _replace(text: str, old: str, new: str) -> str:
-    assert old in text, old
-    return text.replace(old, new, 1)
-
+from cli_cases import bad_params, replace_once
 
 # (id, (old, new) substitution in the base case, substrings expected in the message)
 BAD = [
@@ -81,35 +76,22 @@ BAD = [
 ]
 
 
-@pytest.mark.parametrize("sub, expected", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
-def test_invalid_case_exit_2_one_clear_line(cli, write_case, base_case, sub, expected):
-    path = write_case(_replace(base_case, *sub))
-    code, out, err = cli("check", path)
-    assert code == 2, (out, err)
-    assert "Traceback" not in err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    for part in expected:
-        assert part in lines[0], f"{part!r} not in {lines[0]!r}"
+@pytest.mark.parametrize("sub, expected", bad_params(BAD))
+def test_invalid_case_exit_2_one_clear_line(rejects, base_case, sub, expected):
     # `run` rejects the same case the same way, before writing anything
-    code, _, err_run = cli("run", path, "--out", path.parent / "out")
-    assert code == 2 and err_run == err
-    assert not (path.parent / "out").exists()
+    rejects(replace_once(base_case, *sub), expected, commands=("check", "run"))
 
 
-def test_duplicate_contact_names(cli, write_case, base_case):
+def test_duplicate_contact_names(rejects, base_case):
     extra = ('\n[[contacts]]\ntype = "jenkins"\nname = "slider"\ndofs = [1]\n'
              "stiffness_N_per_m = 1.0\nslip_force_N = 1.0\n")
-    text = _replace(base_case, "[analysis.free_decay]", extra + "\n[analysis.free_decay]")
-    code, _, err = cli("check", write_case(text))
-    assert code == 2 and "'slider' is used twice" in err
+    text = replace_once(base_case, "[analysis.free_decay]", extra + "\n[analysis.free_decay]")
+    rejects(text, ["'slider' is used twice"])
 
 
-def test_hysteresis_unknown_contact(cli, write_case, base_case):
+def test_hysteresis_unknown_contact(rejects, base_case):
     text = base_case + '\n[analysis.hysteresis]\namplitudes_m = [1e-3]\ncontacts = ["slidr"]\n'
-    code, _, err = cli("check", write_case(text))
-    assert code == 2
-    assert "[analysis.hysteresis] contacts: there is no contact named 'slidr'" in err
+    rejects(text, ["[analysis.hysteresis] contacts: there is no contact named 'slidr'"])
 
 
 def test_invalid_toml_and_missing_file(cli, write_case, tmp_path):
@@ -119,9 +101,8 @@ def test_invalid_toml_and_missing_file(cli, write_case, tmp_path):
     assert code == 2 and "does not exist" in err
 
 
-def test_missing_model_table(cli, write_case):
-    code, _, err = cli("check", write_case("[analysis.free_decay]\nduration_s = 1.0\n"))
-    assert code == 2 and "no [model] table" in err
+def test_missing_model_table(rejects):
+    rejects("[analysis.free_decay]\nduration_s = 1.0\n", ["no [model] table"])
 
 
 MATRICES_CASE = """\
