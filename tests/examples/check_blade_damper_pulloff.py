@@ -15,7 +15,13 @@ def check(summary: dict, case: dict) -> None:
     * the event-driven confirmation: no slip 2 % below the limit, slip 2 % above;
     * the event-driven time response conserves energy (input work = dissipation + change of
       mechanical energy, 1e-6) and visits slip;
-    * the design study returns its grid and an optimum that is the smallest amplitude.
+    * the design study (000 Fig. 12, F_e = 8 N, F_Z = m_D 1e5 m/s^2) finds an interior
+      optimum, as the paper does (about 1 g and 65 deg): the smallest valid resonant amplitude
+      is at the middle mass and the middle angle of the 3 x 3 grid, below every other valid
+      design. The margin over the runner-up (about 5 %, 0.5 g at 50 deg) is larger than the
+      steady-state tolerance of each amplitude (5 % between chunks, but measured as the
+      largest amplitude over a window, so it is reproducible to round-off, not to 5 %).
+      The designs at 80 deg let the damper lift off and are excluded (valid = False).
     """
     curves = summary["pulloff"]
     assert len(curves) == 9
@@ -46,4 +52,13 @@ def check(summary: dict, case: dict) -> None:
     d = summary["design"]
     A = np.asarray(d["blade_amplitude_m"], float)
     assert A.shape == (len(d["damper_mass_kg"]), len(d["gamma_deg"]))
-    assert d["optimum"]["blade_amplitude_m"] == pytest.approx(np.nanmin(A), rel=1e-12)
+    valid = np.asarray(d["parabolas"][0]["valid"], bool)
+    assert d["optimum"]["blade_amplitude_m"] == pytest.approx(np.min(A[valid]), rel=1e-12)
+    opt = d["optimum"]
+    im = d["damper_mass_kg"].index(opt["damper_mass_kg"])
+    ig = d["gamma_deg"].index(opt["gamma_deg"])
+    assert 0 < im < len(d["damper_mass_kg"]) - 1 and 0 < ig < len(d["gamma_deg"]) - 1, opt
+    others = np.where(valid, A, np.inf)
+    others[im, ig] = np.inf
+    assert valid[im, ig] and A[im, ig] < others.min()
+    assert valid.sum() >= 5  # the optimum is a minimum over real competitors

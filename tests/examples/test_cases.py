@@ -177,7 +177,12 @@ def _load_check_modules() -> None:
 _load_check_modules()
 
 
-@pytest.mark.parametrize("path", CASES, ids=[p.stem for p in CASES])
+# cases with an event-driven design study: minutes, run in CI (pytest -m slow to run here)
+SLOW_CASES = {"blade_damper_pulloff"}
+
+
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.stem in SLOW_CASES
+                                  else p for p in CASES], ids=[p.stem for p in CASES])
 def test_example_case(path, tmp_path, capsys):
     if path.stem not in CHECKS:
         pytest.fail(f"examples/cases/{path.name} has no physical check: add one to CHECKS in "
