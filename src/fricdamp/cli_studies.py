@@ -47,6 +47,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fricdamp._version import __version__
+from fricdamp.cli import _progress_wanted
 from fricdamp.errors import CaseError
 
 __all__ = ["CasePoint", "add_subparsers", "handle_optimize", "handle_sweep", "load_study_case",
@@ -266,15 +267,6 @@ def _err(msg: str) -> None:
 
 def _out(msg: str) -> None:
     print(msg, flush=True)
-
-
-def _progress_wanted(disabled: bool) -> bool:
-    if disabled or os.environ.get("CI"):
-        return False
-    try:
-        return sys.stderr.isatty()
-    except (AttributeError, ValueError):
-        return False
 
 
 @contextlib.contextmanager

@@ -20,9 +20,15 @@ with zero slip velocity is decided together by the friction complementarity prob
 (Lemke's method, :func:`~fricdamp.solvers.event_switch.solve_friction_lcp`), with a
 breakaway cascade for ``mu_static > mu_sliding`` (:func:`~fricdamp.solvers.event_switch.
 decide_modes`). Stick is kept whenever it is consistent.
-Entering stick, the velocity is projected (M-orthogonally) onto the stuck constraints; the
-kinetic-energy change of that round-off projection is reported in
-``EventResult.projection_energy``.
+Before deciding, the velocity is projected (M-orthogonally) onto zero slip velocity of every
+contact the decision concerns (the stuck ones, the one that just reached zero, those at
+round-off from it); at the start of every phase it is projected onto the stuck constraints.
+A DOP853 phase lets a stuck contact's slip velocity drift by its integration error; removing
+that drift only after the decision would move the slip velocity of a contact that has just
+been told to slip off zero, possibly against its slip direction, and the next phase would end
+at once (endlessly). The kinetic-energy change of the projections (integration error and
+round-off) is reported in ``EventResult.projection_energy``. Frictionless contacts
+(``mu_static = mu_sliding = 0``) carry no friction events.
 
 Energy terms are integrated by 8-point Gauss-Legendre quadrature over sub-intervals of a
 quarter of the fastest period (exact phases) or over the DOP853 steps, so the energy balance
