@@ -20,9 +20,10 @@ with zero slip velocity is decided together by the friction complementarity prob
 (Lemke's method, :func:`~fricdamp.solvers.event_switch.solve_friction_lcp`), with a
 breakaway cascade for ``mu_static > mu_sliding`` (:func:`~fricdamp.solvers.event_switch.
 decide_modes`). Stick is kept whenever it is consistent.
-Before deciding, the velocity is projected (M-orthogonally) onto zero slip velocity of every
-contact the decision concerns (the stuck ones, the one that just reached zero, those at
-round-off from it); at the start of every phase it is projected onto the stuck constraints.
+Before deciding after a DOP853 phase, the velocity is projected (M-orthogonally) onto zero
+slip velocity of every contact the decision concerns (the stuck ones, the one that just
+reached zero, those at round-off from it); at the start of every phase it is projected onto
+the stuck constraints (exact phases hold those to round-off anyway).
 A DOP853 phase lets a stuck contact's slip velocity drift by its integration error; removing
 that drift only after the decision would move the slip velocity of a contact that has just
 been told to slip off zero, possibly against its slip direction, and the next phase would end
@@ -470,8 +471,9 @@ class _Run:
         # removing that drift afterwards (at the next phase's projection) would move the
         # velocities of the contacts that just reached zero off zero, possibly against the
         # direction they were given to slip in (the next phase would then end at once, again
-        # and again).
-        self._project(np.where(cand | (must != 0), STICK, self.modes))
+        # and again). Exact phases hold stuck contacts at rest to round-off: nothing to do.
+        if self.lf is None:
+            self._project(np.where(cand | (must != 0), STICK, self.modes))
         cand &= must == 0
         self.n_decisions += 1
         new = self.decider.decide_at(self.t, self.q, self.qd, self.modes, cand, must, self.sigma)
