@@ -38,10 +38,10 @@ def write_case(tmp_path):
 
 
 @pytest.fixture
-def rejects(cli, write_case):
+def assert_rejected(cli, write_case):
     """Check that ``fricdamp <command>`` rejects a case as invalid input.
 
-    ``rejects(text, expected, commands=("check",))`` writes ``text`` as a case file and runs
+    ``assert_rejected(text, expected, commands=("check",))`` writes ``text`` as a case file and runs
     each command on it (``run`` with ``--out <tmp>/out``). Each must exit with code 2 and write
     one line to stderr, without a traceback or "internal error", containing every substring of
     ``expected``; every command must write the same stderr, and ``run`` must write nothing.

@@ -26,12 +26,12 @@ type = "blade_damper"
     ("masses_kg = [1.0, 1.0, 1.0]", "masses_kg"),
     ("centrifugal_force_N = 100.0\ncentrifugal_acceleration_m_per_s2 = 1e5", "centrifugal"),
 ])
-def test_bad_model_exits_2_with_the_key(rejects, model, word):
-    rejects(BASE.format(model=model), [word])
+def test_bad_model_exits_2_with_the_key(assert_rejected, model, word):
+    assert_rejected(BASE.format(model=model), [word])
 
 
-def test_contacts_refused(rejects):
-    rejects(BASE.format(model="") + """
+def test_contacts_refused(assert_rejected):
+    assert_rejected(BASE.format(model="") + """
 [[contacts]]
 type = "jenkins"
 dofs = [1]

@@ -110,23 +110,23 @@ BAD = [
 
 
 @pytest.mark.parametrize("old_new, expected", bad_params(BAD))
-def test_invalid_input_exits_2_with_one_clear_line(rejects, old_new, expected):
-    rejects(replace_once(CASE, *old_new), expected)
+def test_invalid_input_exits_2_with_one_clear_line(assert_rejected, old_new, expected):
+    assert_rejected(replace_once(CASE, *old_new), expected)
 
 
-def test_blade_pair_analyses_need_the_blade_pair_model(rejects, base_case):
+def test_blade_pair_analyses_need_the_blade_pair_model(assert_rejected, base_case):
     """[analysis.campbell] on a chain model: exit 2 naming the model type it needs."""
-    rejects(base_case + "\n[analysis.campbell]\nn_speeds = 3\n",
+    assert_rejected(base_case + "\n[analysis.campbell]\nn_speeds = 3\n",
             ["[analysis.campbell] needs [model] type = 'blade_pair'"])
 
 
-def test_generic_analyses_refused_on_the_blade_pair_model(rejects):
+def test_generic_analyses_refused_on_the_blade_pair_model(assert_rejected):
     """A MechanicalSystem analysis on the paper-001 model: exit 2 (not an internal error),
     saying which analyses apply; nothing is written."""
     text = ('[model]\ntype = "blade_pair"\n\n[analysis.forced_response]\n'
             "force_amplitude_N = [" + ", ".join(["1.0"] + ["0.0"] * 77) + "]\n"
             "frequency_hz = 100.0\nperiods = 2\nsteps_per_period = 16\n")
-    rejects(text, ["not a MechanicalSystem", "[analysis.campbell]"], commands=("run",))
+    assert_rejected(text, ["not a MechanicalSystem", "[analysis.campbell]"], commands=("run",))
 
 
 def test_schema_defaults_are_the_library_defaults():

@@ -77,21 +77,21 @@ BAD = [
 
 
 @pytest.mark.parametrize("sub, expected", bad_params(BAD))
-def test_invalid_case_exit_2_one_clear_line(rejects, base_case, sub, expected):
+def test_invalid_case_exit_2_one_clear_line(assert_rejected, base_case, sub, expected):
     # `run` rejects the same case the same way, before writing anything
-    rejects(replace_once(base_case, *sub), expected, commands=("check", "run"))
+    assert_rejected(replace_once(base_case, *sub), expected, commands=("check", "run"))
 
 
-def test_duplicate_contact_names(rejects, base_case):
+def test_duplicate_contact_names(assert_rejected, base_case):
     extra = ('\n[[contacts]]\ntype = "jenkins"\nname = "slider"\ndofs = [1]\n'
              "stiffness_N_per_m = 1.0\nslip_force_N = 1.0\n")
     text = replace_once(base_case, "[analysis.free_decay]", extra + "\n[analysis.free_decay]")
-    rejects(text, ["'slider' is used twice"])
+    assert_rejected(text, ["'slider' is used twice"])
 
 
-def test_hysteresis_unknown_contact(rejects, base_case):
+def test_hysteresis_unknown_contact(assert_rejected, base_case):
     text = base_case + '\n[analysis.hysteresis]\namplitudes_m = [1e-3]\ncontacts = ["slidr"]\n'
-    rejects(text, ["[analysis.hysteresis] contacts: there is no contact named 'slidr'"])
+    assert_rejected(text, ["[analysis.hysteresis] contacts: there is no contact named 'slidr'"])
 
 
 def test_invalid_toml_and_missing_file(cli, write_case, tmp_path):
@@ -101,8 +101,8 @@ def test_invalid_toml_and_missing_file(cli, write_case, tmp_path):
     assert code == 2 and "does not exist" in err
 
 
-def test_missing_model_table(rejects):
-    rejects("[analysis.free_decay]\nduration_s = 1.0\n", ["no [model] table"])
+def test_missing_model_table(assert_rejected):
+    assert_rejected("[analysis.free_decay]\nduration_s = 1.0\n", ["no [model] table"])
 
 
 MATRICES_CASE = """\

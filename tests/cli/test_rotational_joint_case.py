@@ -87,23 +87,23 @@ BAD = [
 
 
 @pytest.mark.parametrize("old_new, expected", bad_params(BAD))
-def test_invalid_input_exits_2_with_one_clear_line(rejects, old_new, expected):
-    rejects(replace_once(CASE, *old_new), expected)
+def test_invalid_input_exits_2_with_one_clear_line(assert_rejected, old_new, expected):
+    assert_rejected(replace_once(CASE, *old_new), expected)
 
 
-def test_joint_analyses_need_the_joint_model(rejects, base_case):
+def test_joint_analyses_need_the_joint_model(assert_rejected, base_case):
     """[analysis.joint] on a chain model: exit 2 naming the model type it needs."""
-    rejects(base_case + "\n[analysis.joint]\namplitudes_rad = [1.0e-3]\n",
+    assert_rejected(base_case + "\n[analysis.joint]\namplitudes_rad = [1.0e-3]\n",
             ["[analysis.joint] needs [model] type = 'rotational_joint_rig'"])
 
 
-def test_generic_analyses_refused_on_the_joint_model(rejects):
+def test_generic_analyses_refused_on_the_joint_model(assert_rejected):
     """A MechanicalSystem analysis on the paper-002 model: exit 2 (not an internal error),
     saying which analyses apply; nothing is written."""
     text = ('[model]\ntype = "rotational_joint_rig"\n\n[analysis.free_decay]\n'
             "initial_displacement_m = [1.0e-3, 0.0, 0.0]\nduration_s = 0.1\n"
             "time_step_s = 1.0e-3\n")
-    rejects(text, ["not a MechanicalSystem", "[analysis.joint]"], commands=("run",))
+    assert_rejected(text, ["not a MechanicalSystem", "[analysis.joint]"], commands=("run",))
 
 
 def test_schema_defaults_are_the_library_defaults():

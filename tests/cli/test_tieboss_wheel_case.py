@@ -121,25 +121,26 @@ BAD = [
 
 
 @pytest.mark.parametrize("old_new, expected", bad_params(BAD))
-def test_invalid_input_exits_2_with_one_clear_line(rejects, old_new, expected):
-    rejects(replace_once(CASE, *old_new), expected)
+def test_invalid_input_exits_2_with_one_clear_line(assert_rejected, old_new, expected):
+    assert_rejected(replace_once(CASE, *old_new), expected)
 
 
 @pytest.mark.parametrize("name", ["modal", "campbell_by_nd", "free_attenuation",
                                   "reduction_comparison"])
-def test_tieboss_analyses_need_the_tieboss_model(rejects, base_case, name):
+def test_tieboss_analyses_need_the_tieboss_model(assert_rejected, base_case, name):
     """A tie-boss analysis on a chain model: exit 2 naming the model type it needs."""
-    rejects(base_case + f"\n[analysis.{name}]\n",
+    assert_rejected(base_case + f"\n[analysis.{name}]\n",
             [f"[analysis.{name}] needs [model] type = 'tieboss_wheel'"])
 
 
-def test_generic_analyses_refused_on_the_tieboss_model(rejects):
+def test_generic_analyses_refused_on_the_tieboss_model(assert_rejected):
     """A MechanicalSystem analysis on the paper-003 model: exit 2 (not an internal error),
     saying which analyses apply; nothing is written."""
     text = ('[model]\ntype = "tieboss_wheel"\n\n[analysis.free_decay]\n'
             "initial_displacement_m = [" + ", ".join(["1.0e-3"] + ["0.0"] * 2879) + "]\n"
             "duration_s = 0.01\ntime_step_s = 1.0e-4\n")
-    rejects(text, ["not a MechanicalSystem", "[analysis.free_attenuation]"], commands=("run",))
+    assert_rejected(text, ["not a MechanicalSystem", "[analysis.free_attenuation]"],
+                    commands=("run",))
 
 
 def test_schema_defaults_are_the_library_defaults():
