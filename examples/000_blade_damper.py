@@ -80,33 +80,28 @@ def _fig_pulloff_trends(base, out: Path, f_ref: float) -> tuple[list[str], dict]
     by_fz = {g: [float(pulloff_curve(base.with_(gamma_deg=g, centrifugal_force=F),
                                      [f_ref]).F_e_limit_N[0]) for F in fz]
              for g in (40.0, 50.0, 60.0)}
-    paths = []
-    fig, ax = plt.subplots(figsize=(5, 3.6))
-    for F, v in by_gamma.items():
-        ax.plot(gam, v, label=f"F_Z = {F:g} N")
-    ax.set_xlabel("block angle gamma [deg]")
-    ax.set_ylabel(f"F_e,limit at {f_ref:g} Hz [N]")
-    ax.set_title("000 Fig. 9: pull-off amplitude falls with gamma")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.tight_layout()
-    p = out / "fig09_pulloff_gamma.png"
-    fig.savefig(p, dpi=120)
-    plt.close(fig)
-    paths.append(str(p))
-    fig, ax = plt.subplots(figsize=(5, 3.6))
-    for g, v in by_fz.items():
-        ax.plot(fz, v, label=f"gamma = {g:g} deg")
-    ax.set_xlabel("centrifugal force F_Z [N]")
-    ax.set_ylabel(f"F_e,limit at {f_ref:g} Hz [N]")
-    ax.set_title("000 Fig. 10: pull-off amplitude rises with F_Z")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.tight_layout()
-    p = out / "fig10_pulloff_FZ.png"
-    fig.savefig(p, dpi=120)
-    plt.close(fig)
-    paths.append(str(p))
+
+    def trend_figure(x, curves, label, xlabel, title, name):
+        fig, ax = plt.subplots(figsize=(5, 3.6))
+        for key, v in curves.items():
+            ax.plot(x, v, label=label(key))
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(f"F_e,limit at {f_ref:g} Hz [N]")
+        ax.set_title(title)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="small")
+        fig.tight_layout()
+        p = out / name
+        fig.savefig(p, dpi=120)
+        plt.close(fig)
+        return str(p)
+
+    paths = [
+        trend_figure(gam, by_gamma, lambda F: f"F_Z = {F:g} N", "block angle gamma [deg]",
+                     "000 Fig. 9: pull-off amplitude falls with gamma", "fig09_pulloff_gamma.png"),
+        trend_figure(fz, by_fz, lambda g: f"gamma = {g:g} deg", "centrifugal force F_Z [N]",
+                     "000 Fig. 10: pull-off amplitude rises with F_Z", "fig10_pulloff_FZ.png"),
+    ]
     data = {"frequency_hz": f_ref, "gamma_deg": gam.tolist(),
             "by_gamma": {str(k): v for k, v in by_gamma.items()}, "F_Z_N": fz.tolist(),
             "by_F_Z": {str(k): v for k, v in by_fz.items()}}
