@@ -2,7 +2,7 @@
 
 A phase object integrates one stick/slip configuration from its start ``t0`` and offers
 ``advance(t_end) -> Hit | None`` (the first event), ``outputs(t)`` (q, q', lambda_N,
-lambda_T) and ``powers(t)`` (input, viscous and friction power). Exact phases of linear
+lambda_T) and ``energy(t)`` (cumulative input, viscous and friction work). Exact phases of linear
 systems live in :mod:`fricdamp.solvers.event_exact`; :class:`NumericalPhase` integrates a
 general :class:`~fricdamp.solvers.event_system.ConstrainedSystem` with DOP853.
 
@@ -297,26 +297,6 @@ class NumericalPhase:
         W = W - W[:, :1]
         W[~self._has_power] = np.nan
         return W
-
-    def powers(self, t):
-        t = np.atleast_1d(t)
-        Y = self.y(t)
-        n = self.n
-        s = self.ev.system
-        p_in = np.empty(t.size)
-        p_visc = np.empty(t.size)
-        p_fric = np.empty(t.size)
-        for j, tj in enumerate(t):
-            q, qd = Y[:n, j], Y[n:2 * n, j]
-            pt, _, _, lamT = self._solve(float(tj), Y[:2 * n, j])
-            p_in[j] = s.input_power(float(tj), q, qd)
-            p_visc[j] = s.viscous_power(float(tj), q, qd)
-            p_fric[j] = float(lamT @ (pt.WT.T @ qd))
-        return p_in, p_visc, p_fric
-
-    def breakpoints(self, t_stop):
-        b = [s[0] for s in self.segments if s[0] < t_stop]
-        return np.array(b + [t_stop])
 
 
 __all__ = ["EV_NORMAL", "EV_SLIP", "EV_STICK_NEG", "EV_STICK_POS", "Hit", "NumericalPhase",
