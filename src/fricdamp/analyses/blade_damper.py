@@ -147,6 +147,18 @@ def _model(obj) -> BladeDamperCaseModel:
     return obj
 
 
+def _params(obj, spec):
+    """The model's parameters with the section's excitation overrides applied (the optional
+    ``excitation_amplitude_N`` and ``excitation_frequency_hz`` keys of the section)."""
+    ch = {}
+    if getattr(spec, "excitation_amplitude_N", None) is not None:
+        ch["excitation_amplitude"] = spec.excitation_amplitude_N
+    if getattr(spec, "excitation_frequency_hz", None) is not None:
+        ch["excitation_frequency"] = spec.excitation_frequency_hz
+    p = _model(obj).params
+    return p.with_(**ch) if ch else p
+
+
 def _check(obj, spec) -> None:
     _model(obj)
 
@@ -192,13 +204,7 @@ def run_time_response(obj, spec: TimeResponseAnalysis, ctx: RunContext) -> Analy
 
     from fricdamp.models.blade_damper_analyses import CONFIGURATIONS, time_response
 
-    p = _model(obj).params
-    ch = {}
-    if spec.excitation_amplitude_N is not None:
-        ch["excitation_amplitude"] = spec.excitation_amplitude_N
-    if spec.excitation_frequency_hz is not None:
-        ch["excitation_frequency"] = spec.excitation_frequency_hz
-    p = p.with_(**ch) if ch else p
+    p = _params(obj, spec)
     t0 = time.perf_counter()
     tr = time_response(p, spec.periods, samples_per_period=spec.samples_per_period)
     r = tr.result
@@ -337,9 +343,7 @@ class DamperDesign(Section):
 def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
     from fricdamp.models.blade_damper_analyses import default_design_band, design_study
 
-    p = _model(obj).params
-    if spec.excitation_amplitude_N is not None:
-        p = p.with_(excitation_amplitude=spec.excitation_amplitude_N)
+    p = _params(obj, spec)
     if spec.parabolas is not None:
         for p1, p2 in spec.parabolas:
             if not (p1 < 0 < p2):
@@ -418,9 +422,7 @@ class BladeResonance(Section):
 def run_blade_resonance(obj, spec: BladeResonance, ctx: RunContext) -> AnalysisOutput:
     from fricdamp.models.blade_damper_analyses import default_design_band, resonance_amplitude
 
-    p = _model(obj).params
-    if spec.excitation_amplitude_N is not None:
-        p = p.with_(excitation_amplitude=spec.excitation_amplitude_N)
+    p = _params(obj, spec)
     f = default_design_band(p, spec.n_frequencies)
     r = resonance_amplitude(p, f, resolution_hz=spec.resolution_hz)
     summary = {"blade_amplitude_m": float(r["peak_amplitude_m"]),
