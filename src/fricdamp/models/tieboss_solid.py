@@ -1,0 +1,347 @@
+"""Paper-003 bladed wheel as a parametric 3D solid sector, meshed with gmsh (tet10).
+
+The beam model :mod:`fricdamp.models.tieboss_wheel` reduces the wheel of paper 003 to
+beams; this module builds the same wheel as a solid: one sector of the 30, meshed with
+second-order tetrahedra by gmsh (OpenCASCADE kernel), its cut faces and its tie-boss
+contact faces meshed periodically so that neighbouring sectors match node for node.
+
+Geometry (SI; wheel axis z; sector 0 centred on +x; ``alpha = 2 pi / N``, ``h = alpha/2``)
+--------------------------------------------------------------------------------------------
+* **disk**: the annular sector ``clamp_radius_m <= r <= rim_radius_m``, ``|theta| <= h``,
+  ``|z| <= disk_thickness_m / 2``. Its inner cylindrical face is the group ``clamp`` (all
+  DOFs fixed: the hub of 003 section 1.1); its side faces ``theta = -h, +h`` are
+  ``cut_left`` and ``cut_right``.
+* **root**: a block standing for the two 45-degree finger consoles of 003 section 1.1, from
+  ``rim_radius_m - root_embedding_m`` (inside the disk) to ``root_radius_m``, of
+  ``root_width_m`` along the blade chord and ``root_thickness_m`` along its normal.
+* **blade**: a plate from ``root_radius_m`` to ``tip_radius_m``, ``blade_width_m`` x
+  ``blade_thickness_m``, whose plane contains the radial x-axis at ``blade_angle_deg`` to the
+  wheel plane: chord ``c = (0, cos b, -sin b)``, flexural direction (normal to the blade,
+  the plane alpha_0 of 003) ``d = (0, sin b, cos b)``, the convention of the beam model
+  (the brief's chord ``(0, cos b, sin b)`` would put the flexural motion *normal* to the
+  contact planes, against "to allow the blade to move freely during flexural vibrations").
+* **tie-boss** at ``tieboss_radius_m`` (003: 0.44 m): a boss around the blade (a box
+  ``boss_radial_m`` x ``boss_width_m`` (chord) x ``boss_thickness_m`` (along d), the nuts of
+  the suspension bolt) and two shoulders. The right contact face ``F_R`` is a square of side
+  ``contact_face_size_m`` on the cutting plane beta_B of 003 Fig. 2 (through the mid radial
+  ``zeta_B = e_r(h)``, perpendicular to the wheel plane and turned by
+  ``contact_plane_angle_deg`` about ``zeta_B``), centred at ``r_tb e_r(h)``, its edges along
+  ``t1 = e_r(h)`` and ``t2 = sin(b) e_t(h) + cos(b) e_z``; its normal is
+  ``n = cos(b) e_t(h) - sin(b) e_z`` (:func:`fricdamp.models.tieboss_wheel.contact_frame`).
+  The left face ``F_L`` is ``F_R`` rotated by ``-alpha`` about z, so sector j's right face
+  is sector j+1's left face. Each shoulder is the oblique prism swept from its face to the
+  centre of the boss (nearly along ``-/+ e_t``, like the suspension bolt of 003); its end
+  face is cut by the cutting plane "at a certain angle" (003 section 1.1).
+* **tip mass**: a block ``tipmass_length_m`` (radial) x ``blade_width_m`` x
+  ``tipmass_thickness_m`` (along d) beyond the blade tip, its own volume ``tipmass`` of
+  density ``tipmass_density_kg_m3`` (the bolted weights of 003; the density is a tuning
+  knob standing for their mass, 0.42 kg as the beam model's ``tip_mass_kg``).
+
+Every part beyond the rim lies between the sector's two cutting planes
+(:func:`~fricdamp.models._tieboss_solid_geometry.check_clearance`), so neighbours never
+overlap at rest.
+
+Groups of the mesh: surfaces ``clamp``, ``cut_left``, ``cut_right``, ``contact_left``,
+``contact_right``; volumes ``steel``, ``tipmass``; points ``probe`` (centre of ``F_R``, where
+the paper reads its contact nodes, N165136 etc., "in the midst of each contact surface"),
+``probe_left`` (centre of ``F_L``), ``tip`` (centre of the blade tip section) and ``load``
+(two nodes: the centres of the boss faces normal to d, the "two nodes of the tie-boss prism
+of each blade" where 003 section 3 applies its modal forces).
+
+Mesh: tet10 with straight edges (``Mesh.SecondOrderLinear``: mid-side nodes at the edge
+midpoints), global size ``mesh_size_m``, size ``contact_mesh_size_m`` at the contact faces.
+The right cut and contact faces are meshed as the left ones rotated by ``alpha``
+(``gmsh.model.mesh.setPeriodic``), checked node by node after meshing.
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import os
+import tempfile
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
+
+from fricdamp.errors import ModelError, check_positive, check_range
+from fricdamp.models._tieboss_solid_geometry import (
+    contact_geometry,
+    mesh_sector_msh,
+    rotation_z,
+)
+
+__all__ = [
+    "SolidWheelParameters",
+    "build_sector_mesh",
+    "match_periodic_nodes",
+]
+
+log = logging.getLogger(__name__)
+
+
+# ------------------------------------------------------------------------------ parameters
+@dataclass(frozen=True)
+class SolidWheelParameters:
+    """Parameters of the solid tie-boss sector (SI units; angles in degrees by name).
+
+    Defaults: the paper's data (30 blades, tie-boss at r = 0.44 m, 45-degree blades and
+    contact planes), the beam model's blade (0.30-0.50 m, 40 x 6 mm), documented choices
+    for what the paper does not give, and the disk, root and tip mass tuned to Table 1
+    (:func:`tune_solid_parameters`).
+
+    Attributes
+    ----------
+    n_blades : int
+        Number of blades (sectors) N >= 3 (003: 30).
+    clamp_radius_m, rim_radius_m : float
+        Clamped inner radius and outer radius of the disk [m].
+    disk_thickness_m : float
+        Axial thickness of the disk [m].
+    root_radius_m, root_width_m, root_thickness_m, root_embedding_m : float
+        Root block (the consoles): outer radius (= blade root) [m], size along the chord
+        and along the flexural direction [m], depth inside the disk [m].
+    tieboss_radius_m, tip_radius_m : float
+        Radius of the tie-boss (003: 0.44 m) and of the blade tip [m].
+    blade_width_m, blade_thickness_m : float
+        Blade chord and thickness [m].
+    blade_angle_deg, contact_plane_angle_deg : float
+        Angle of the blade plane to the wheel plane and of the cutting planes (003: 45 and
+        45) [deg], in [0, 90) and [0, 90).
+    boss_radial_m, boss_width_m, boss_thickness_m : float
+        Boss box: radial size, size along the chord, size along the flexural direction [m].
+    contact_face_size_m : float
+        Side of the square contact faces [m].
+    tipmass_length_m, tipmass_thickness_m : float
+        Tip-mass block: radial length and size along the flexural direction [m] (its
+        chord is the blade's).
+    tipmass_density_kg_m3 : float
+        Density of the tip-mass block [kg/m^3] (sets its mass).
+    young_modulus_Pa, poisson_ratio, density_kg_m3 : float
+        Steel (also the tip-mass stiffness).
+    mesh_size_m : float
+        Largest element edge [m], in [1.5 mm, 30 mm].
+    contact_divisions : int
+        Cells per edge of the structured contact faces, in [2, 8] (3: 18 triangles, 49
+        nodes per face; 2: 25 nodes).
+    """
+
+    n_blades: int = 30
+    clamp_radius_m: float = 0.10
+    rim_radius_m: float = 0.28
+    disk_thickness_m: float = 0.010
+    root_radius_m: float = 0.30
+    root_width_m: float = 0.040
+    root_thickness_m: float = 0.014
+    root_embedding_m: float = 0.006
+    tieboss_radius_m: float = 0.44
+    tip_radius_m: float = 0.50
+    blade_width_m: float = 0.040
+    blade_thickness_m: float = 0.006
+    blade_angle_deg: float = 45.0
+    contact_plane_angle_deg: float = 45.0
+    boss_radial_m: float = 0.012
+    boss_width_m: float = 0.024
+    boss_thickness_m: float = 0.016
+    contact_face_size_m: float = 0.010
+    tipmass_length_m: float = 0.016
+    tipmass_thickness_m: float = 0.030
+    tipmass_density_kg_m3: float = 21900.0
+    young_modulus_Pa: float = 2.1e11
+    poisson_ratio: float = 0.3
+    density_kg_m3: float = 7850.0
+    mesh_size_m: float = 0.006
+    contact_divisions: int = 3
+
+    def __post_init__(self):
+        n = self.n_blades
+        if isinstance(n, bool) or int(n) != n or n < 3:
+            raise ModelError(f"n_blades must be an integer >= 3, got {n!r}")
+        object.__setattr__(self, "n_blades", int(n))
+        for name in ("clamp_radius_m", "rim_radius_m", "disk_thickness_m", "root_radius_m",
+                     "root_width_m", "root_thickness_m", "root_embedding_m",
+                     "tieboss_radius_m", "tip_radius_m", "blade_width_m",
+                     "blade_thickness_m", "boss_radial_m", "boss_width_m",
+                     "boss_thickness_m", "contact_face_size_m", "tipmass_length_m",
+                     "tipmass_thickness_m", "tipmass_density_kg_m3", "young_modulus_Pa",
+                     "density_kg_m3"):
+            unit = name.rsplit("_", 1)[-1].replace("kg", "kg/").replace("m3", "m^3")
+            object.__setattr__(self, name, float(check_positive(name, getattr(self, name),
+                                                                unit=unit)))
+        if not (self.clamp_radius_m < self.rim_radius_m < self.root_radius_m
+                < self.tieboss_radius_m < self.tip_radius_m):
+            raise ModelError(
+                "radii must satisfy clamp_radius_m < rim_radius_m < root_radius_m < "
+                f"tieboss_radius_m < tip_radius_m, got {self.clamp_radius_m}, "
+                f"{self.rim_radius_m}, {self.root_radius_m}, {self.tieboss_radius_m}, "
+                f"{self.tip_radius_m} m")
+        for name in ("blade_angle_deg", "contact_plane_angle_deg"):
+            object.__setattr__(self, name, float(check_range(
+                name, getattr(self, name), 0.0, 90.0, unit="deg", high_open=True)))
+        object.__setattr__(self, "poisson_ratio", float(check_range(
+            "poisson_ratio", self.poisson_ratio, 0.0, 0.5, high_open=True)))
+        spans = {"root_embedding_m": (self.root_embedding_m,
+                                      0.5 * (self.rim_radius_m - self.clamp_radius_m)),
+                 "boss_radial_m": (self.boss_radial_m, 2.0 * min(
+                     self.tieboss_radius_m - self.root_radius_m,
+                     self.tip_radius_m - self.tieboss_radius_m)),
+                 "contact_face_size_m": (self.contact_face_size_m, self.boss_radial_m)}
+        for name, (value, high) in spans.items():
+            check_range(name, value, 0.0, high, unit="m", low_open=True, high_open=True)
+        object.__setattr__(self, "mesh_size_m", float(check_range(
+            "mesh_size_m", self.mesh_size_m, 0.0015, 0.030, unit="m")))
+        k = self.contact_divisions
+        if isinstance(k, bool) or int(k) != k or not 2 <= k <= 8:
+            raise ModelError(f"contact_divisions must be an integer in [2, 8], got {k!r}")
+        object.__setattr__(self, "contact_divisions", int(k))
+
+    # ---------------------------------------------------------------- derived
+    @property
+    def sector_angle_rad(self) -> float:
+        """Blade pitch ``alpha = 2 pi / N`` [rad]."""
+        return 2.0 * np.pi / self.n_blades
+
+    @property
+    def contact_mesh_size(self) -> float:
+        """Element edge along the contact-face sides [m]."""
+        return self.contact_face_size_m / self.contact_divisions
+
+    @property
+    def tipmass_volume_m3(self) -> float:
+        """Volume of the tip-mass block [m^3]."""
+        return self.tipmass_length_m * self.blade_width_m * self.tipmass_thickness_m
+
+    @property
+    def tipmass_kg(self) -> float:
+        """Mass of the tip-mass block [kg]."""
+        return self.tipmass_density_kg_m3 * self.tipmass_volume_m3
+
+    def with_(self, **changes) -> SolidWheelParameters:
+        """Copy with some parameters changed (validated again)."""
+        return replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """Plain dict (JSON-ready) of all parameters."""
+        return asdict(self)
+
+    def geometry_key(self) -> SolidWheelParameters:
+        """The parameters that set the mesh (material entries reset to the defaults)."""
+        d = SolidWheelParameters.__dataclass_fields__
+        return replace(self, **{k: d[k].default for k in _MATERIAL_FIELDS})
+
+
+_MATERIAL_FIELDS = ("tipmass_density_kg_m3", "young_modulus_Pa", "poisson_ratio",
+                    "density_kg_m3")
+
+
+# ------------------------------------------------------------------------------ mesh
+@functools.lru_cache(maxsize=8)
+def _mesh_cached(key: SolidWheelParameters):
+    import meshio
+
+    msh = mesh_sector_msh(key)
+    with tempfile.TemporaryDirectory(prefix="fricdamp_tieboss_") as tmp:
+        path = os.path.join(tmp, "sector.msh")
+        with open(path, "w", encoding="ascii") as fh:
+            fh.write(msh.text)
+        mesh = meshio.read(path, file_format="gmsh")
+    return msh, mesh
+
+
+def _group_nodes(mesh, name: str) -> np.ndarray:
+    """Sorted node indices of the cells of the physical group ``name`` of a meshio mesh."""
+    sets = mesh.cell_sets.get(name)
+    if sets is None:
+        raise ModelError(f"the mesh has no group {name!r}; it has {sorted(mesh.cell_sets)}")
+    nodes = [np.asarray(block.data)[np.asarray(idx, dtype=np.int64)].ravel()
+             for block, idx in zip(mesh.cells, sets, strict=True)
+             if idx is not None and len(idx)]
+    return np.unique(np.concatenate(nodes)) if nodes else np.zeros(0, dtype=np.int64)
+
+
+def match_periodic_nodes(points, left, right, sector_angle: float, *,
+                         tol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
+    """Order two node sets so that ``points[right[k]] = R points[left[k]]``.
+
+    Parameters
+    ----------
+    points : array_like, shape (n_nodes, 3)
+        Node coordinates [m].
+    left, right : array_like of int
+        Node indices of the left and right faces.
+    sector_angle : float
+        Rotation angle alpha [rad] about z.
+    tol : float
+        Largest allowed distance [m] between a right node and its rotated left partner.
+
+    Returns
+    -------
+    left, right : ndarray of int, shape (n,)
+        The pairs, in the order of ``left`` sorted.
+
+    Raises
+    ------
+    ModelError
+        If the faces do not match node to node within ``tol``.
+    """
+    from scipy.spatial import cKDTree
+
+    x = np.asarray(points, dtype=float)
+    left = np.sort(np.asarray(left, dtype=np.int64))
+    right = np.asarray(right, dtype=np.int64)
+    if left.size != right.size or left.size == 0:
+        raise ModelError(f"periodic faces must have the same number (>= 1) of nodes, got "
+                         f"{left.size} (left) and {right.size} (right)")
+    rotated = x[left] @ rotation_z(sector_angle).T
+    dist, idx = cKDTree(x[right]).query(rotated)
+    if dist.max() > tol or np.unique(idx).size != idx.size:
+        raise ModelError(f"the right face is not the left face rotated by the sector angle "
+                         f"node for node (largest distance {dist.max():.3g} m > {tol:.3g} m)")
+    return left, right[idx]
+
+
+def build_sector_mesh(params: SolidWheelParameters | None = None, path=None):
+    """Mesh one sector (tet10, periodic cut and contact faces) with gmsh.
+
+    Meshes are cached in-process per geometry (the material entries do not count), so a
+    second call with the same geometry costs only a copy.
+
+    Parameters
+    ----------
+    params : SolidWheelParameters, optional
+        Geometry and mesh sizes (default: the tuned defaults).
+    path : str or path-like, optional
+        Also write the mesh there (gmsh format 4.1, ASCII).
+
+    Returns
+    -------
+    meshio.Mesh
+        Points [m], ``tetra10`` cells of the volumes, ``triangle6`` cells of the surface
+        groups and ``vertex`` cells of the point groups; ``cell_sets`` keyed by the group
+        names (module docstring).
+
+    Raises
+    ------
+    ModelError
+        If the parameters give an invalid geometry, gmsh fails or the periodic faces do not
+        match node for node (1e-9 m).
+    """
+    import copy
+
+    p = SolidWheelParameters() if params is None else params
+    if not isinstance(p, SolidWheelParameters):
+        raise ModelError(f"params must be SolidWheelParameters, got {type(p).__name__}")
+    msh, mesh = _mesh_cached(p.geometry_key())
+    for right, left in (("cut_right", "cut_left"), ("contact_right", "contact_left")):
+        match_periodic_nodes(mesh.points, _group_nodes(mesh, left), _group_nodes(mesh, right),
+                             p.sector_angle_rad)
+    if path is not None:
+        with open(path, "w", encoding="ascii") as fh:
+            fh.write(msh.text)
+    return copy.deepcopy(mesh)
+
+
+def contact_centres(params: SolidWheelParameters | None = None):
+    """Centres [m] of the right and left contact faces of sector 0, shapes (3,)."""
+    g = contact_geometry(SolidWheelParameters() if params is None else params)
+    return g.centre_right, g.centre_left

@@ -1,0 +1,125 @@
+"""Solid tie-boss sector (paper 003 wheel) meshed with gmsh: groups, periodicity, sizes."""
+
+import numpy as np
+import pytest
+
+from fricdamp.errors import ModelError
+from fricdamp.models.tieboss_solid import (
+    SolidWheelParameters,
+    build_sector_mesh,
+    contact_centres,
+    match_periodic_nodes,
+)
+from fricdamp.models.tieboss_wheel import contact_frame
+
+pytest.importorskip("gmsh")
+pytest.importorskip("meshio")
+
+COARSE = SolidWheelParameters(mesh_size_m=0.012)
+GROUPS = ("clamp", "cut_left", "cut_right", "contact_left", "contact_right", "steel",
+          "tipmass", "load", "probe", "probe_left", "tip")
+
+
+def group_nodes(mesh, name):
+    parts = [np.asarray(block.data)[np.asarray(idx)].ravel()
+             for block, idx in zip(mesh.cells, mesh.cell_sets[name], strict=True)
+             if idx is not None and len(idx)]
+    return np.unique(np.concatenate(parts))
+
+
+@pytest.fixture(scope="module")
+def coarse():
+    return build_sector_mesh(COARSE)
+
+
+def test_groups_present(coarse):
+    assert set(GROUPS) <= set(coarse.cell_sets)
+    assert {c.type for c in coarse.cells} == {"vertex", "triangle6", "tetra10"}
+    assert group_nodes(coarse, "load").size == 2
+    for name in ("probe", "probe_left", "tip"):
+        assert group_nodes(coarse, name).size == 1
+
+
+def test_element_count_and_straight_edges(coarse):
+    tets = np.concatenate([c.data for c in coarse.cells if c.type == "tetra10"])
+    assert 1000 < tets.shape[0] < 3000
+    x = coarse.points
+    # meshio order: mid-side nodes 4..9 on the edges (0,1) (1,2) (0,2) (0,3) (1,3) (2,3)
+    edges = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+    for k, (a, b) in enumerate(edges):
+        mid = 0.5 * (x[tets[:, a]] + x[tets[:, b]])
+        assert np.abs(x[tets[:, 4 + k]] - mid).max() < 1e-12
+
+
+def test_default_mesh_size():
+    """Paper 003: 89,000 hexahedra for the wheel, ~3,000 per sector; the default has more."""
+    mesh = build_sector_mesh()
+    tets = sum(len(c.data) for c in mesh.cells if c.type == "tetra10")
+    assert tets >= 3000
+
+
+@pytest.mark.parametrize("pair", [("cut_left", "cut_right"), ("contact_left", "contact_right")])
+def test_periodic_faces_match_node_to_node(coarse, pair):
+    p = COARSE
+    left, right = (group_nodes(coarse, name) for name in pair)
+    assert left.size == right.size > 20
+    a = p.sector_angle_rad
+    R = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0, 0, 1.0]])
+    lo, ro = match_periodic_nodes(coarse.points, left, right, a)
+    assert np.abs(coarse.points[ro] - coarse.points[lo] @ R.T).max() < 1e-9
+
+
+def test_periodic_mismatch_is_detected(coarse):
+    left, right = group_nodes(coarse, "cut_left"), group_nodes(coarse, "cut_right")
+    with pytest.raises(ModelError, match="node for node"):
+        match_periodic_nodes(coarse.points, left, right, 1.01 * COARSE.sector_angle_rad)
+
+
+def test_contact_faces(coarse):
+    p = COARSE
+    frame = contact_frame(p.sector_angle_rad, p.contact_plane_angle_deg)
+    c_right, c_left = contact_centres(p)
+    x = coarse.points
+    right = x[group_nodes(coarse, "contact_right")]
+    assert right.shape[0] >= 25
+    assert right.shape[0] == (2 * p.contact_divisions + 1) ** 2
+    # on the cutting plane beta_B (through the wheel centre) and inside the square
+    assert np.abs(right @ frame[0]).max() < 1e-9
+    local = (right - c_right) @ frame.T
+    assert np.abs(local[:, 1:]).max() == pytest.approx(p.contact_face_size_m / 2, rel=1e-9)
+    assert np.allclose(x[group_nodes(coarse, "probe")], c_right, atol=1e-12)
+    assert np.allclose(x[group_nodes(coarse, "probe_left")], c_left, atol=1e-12)
+    assert np.linalg.norm(c_right) == pytest.approx(0.44)
+
+
+def test_mesh_cache_and_file(tmp_path, coarse):
+    path = tmp_path / "sector.msh"
+    again = build_sector_mesh(COARSE.with_(tipmass_density_kg_m3=9000.0), path=path)
+    assert np.array_equal(again.points, coarse.points)
+    assert path.read_text().startswith("$MeshFormat\n4.1 0")
+
+
+def test_gmsh_finalized(coarse):
+    import gmsh
+
+    assert not gmsh.isInitialized()
+
+
+@pytest.mark.parametrize("changes, match", [
+    ({"disk_thickness_m": -0.01}, "disk_thickness_m must be > 0"),
+    ({"rim_radius_m": 0.35}, "radii must satisfy"),
+    ({"mesh_size_m": 0.0005}, r"mesh_size_m must lie in \[0.0015, 0.03\]"),
+    ({"contact_divisions": 1}, r"contact_divisions must be an integer in \[2, 8\]"),
+    ({"blade_angle_deg": 95.0}, r"blade_angle_deg must lie in \[0.0, 90.0\)"),
+    ({"contact_face_size_m": 0.02}, "contact_face_size_m must lie in"),
+])
+def test_bad_parameters_one_line(changes, match):
+    with pytest.raises(ModelError, match=match) as info:
+        SolidWheelParameters(**changes)
+    assert "\n" not in str(info.value)
+
+
+def test_overlapping_neighbours_rejected():
+    with pytest.raises(ModelError, match="blade_width_m/blade_thickness_m too large") as info:
+        build_sector_mesh(SolidWheelParameters(blade_width_m=0.06, root_width_m=0.03))
+    assert "\n" not in str(info.value)
