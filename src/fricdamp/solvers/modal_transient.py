@@ -56,7 +56,7 @@ from fricdamp.solvers.fast_transient import (
 from fricdamp.solvers.timestep import _progress_default, energy_balance_error, energy_residual
 
 __all__ = ["ModalBasis", "ModalStaticResult", "ModalTransientResult", "contact_law_arrays",
-           "integrate_modal", "solve_static_modal"]
+           "integrate_modal", "solve_static_modal", "transient_compliance"]
 
 log = logging.getLogger(__name__)
 
@@ -322,6 +322,30 @@ def _block_matrix(K):
 
 
 # =================================================================================== transient
+def _newmark(basis: ModalBasis, h: float, alpha: float):
+    """Newmark/HHT coefficients, gamma, 1 + alpha and the inverse effective stiffness."""
+    beta = (1.0 - alpha) ** 2 / 4.0
+    gamma = 0.5 - alpha
+    c = (1.0 / (beta * h * h), gamma / (beta * h), 1.0 / (beta * h), 1.0 / (2.0 * beta) - 1.0,
+         1.0 - gamma / beta, h * (1.0 - gamma / (2.0 * beta)))
+    ap = 1.0 + alpha
+    s_inv = 1.0 / (c[0] + ap * (c[1] * basis.damping + basis.omega2))
+    return c, gamma, ap, s_inv
+
+
+def transient_compliance(basis: ModalBasis, dt: float, *, method: str = "newmark",
+                         alpha: float = -0.05) -> np.ndarray:
+    """Condensed compliance ``C = B S^-1 B^T`` of the time step [m/N], shape (m, m).
+
+    It depends on the modes, ``dt`` and the method only, not on the contacts: form it once
+    and pass it to :func:`integrate_modal` for every run with the same step.
+    """
+    a = 0.0 if method == "newmark" else float(alpha)
+    with _blas1():
+        s_inv = _newmark(basis, float(dt), a)[3]
+        return np.ascontiguousarray((basis.B * s_inv) @ basis.B.T)
+
+
 @dataclass(frozen=True)
 class ModalTransientResult:
     """Time history from :func:`integrate_modal`.
@@ -395,7 +419,8 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
                     vel0=None, states0=None, load=None, t0: float = 0.0,
                     method: str = "newmark", alpha: float = -0.05, save_every: int = 1,
                     contact_every: int | None = None, tol: float = 1e-10,
-                    max_iter: int = 40, chord: bool = True, progress: bool | None = None,
+                    max_iter: int = 40, chord: bool = True,
+                    compliance: np.ndarray | None = None, progress: bool | None = None,
                     throw: bool = True) -> ModalTransientResult:
     """Integrate a modal model with Contact3D patches (module docstring).
 
@@ -426,6 +451,9 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
     chord : bool
         Start every step with chord iterations (default); ``False``: Newton-Krylov from the
         first iteration. Both stop on the same residual test.
+    compliance : ndarray, shape (m, m), optional
+        ``C`` of :func:`transient_compliance` for the same basis, ``dt`` and method, if
+        already formed (it does not depend on the contacts: re-use it across runs).
     progress : bool, optional
         tqdm progress bar (default: on a terminal and outside CI).
     throw : bool
@@ -466,15 +494,14 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
 
     tic = time.perf_counter()
     with _blas1():
-        beta = (1.0 - alpha) ** 2 / 4.0
-        gamma = 0.5 - alpha
         h = float(dt)
-        c0, c1 = 1.0 / (beta * h * h), gamma / (beta * h)
-        c2, c3 = 1.0 / (beta * h), 1.0 / (2.0 * beta) - 1.0
-        c4, c5 = 1.0 - gamma / beta, h * (1.0 - gamma / (2.0 * beta))
-        ap = 1.0 + alpha
-        s_inv = 1.0 / (c0 + ap * (c1 * cd + lam))
-        C = np.ascontiguousarray((B * s_inv) @ B.T)
+        (c0, c1, c2, c3, c4, c5), gamma, ap, s_inv = _newmark(basis, h, alpha)
+        if compliance is None:
+            C = np.ascontiguousarray((B * s_inv) @ B.T)
+        else:
+            C = np.asarray(compliance)
+            if C.shape != (m, m):
+                raise ModelError(f"compliance must have shape ({m}, {m}), got {C.shape}")
         chord_lu = sla.lu_factor(np.eye(m) + ap * C * con.stick_diagonal()[None, :],
                               check_finite=False)
         u = B @ eta
