@@ -182,26 +182,29 @@ def assemble_fast(basis, sk2node: np.ndarray, elements: np.ndarray, lam, mu, rho
                                                                      sp.csr_matrix]:
     """Assemble K [N/m] and M [kg] over ``elements`` (indices) in node-major DOF order."""
     nb = basis.Nbfun
-    edofs = sk2node[np.asarray(basis.element_dofs)].T             # (n_el, nb) FE nodes
-    block = max(1, int(block_bytes // (8 * 4 * (3 * nb) ** 2)))
-    rows, cols, kdata, mrows, mcols, mdata = [], [], [], [], [], []
-    for start in range(0, len(elements), block):
-        sel = elements[start:start + block]
-        ke, me = element_matrices(basis, sel, lam[start:start + block],
-                                  mu[start:start + block], rho[start:start + block])
-        nodes = edofs[sel]
-        dofs = (3 * nodes[:, :, None] + np.arange(3)).reshape(len(sel), 3 * nb)
-        rows.append(np.broadcast_to(dofs[:, :, None], ke.shape).ravel())
-        cols.append(np.broadcast_to(dofs[:, None, :], ke.shape).ravel())
-        kdata.append(ke.ravel())
-        mrows.append(np.broadcast_to(nodes[:, :, None], me.shape).ravel())
-        mcols.append(np.broadcast_to(nodes[:, None, :], me.shape).ravel())
-        mdata.append(me.ravel())
     n_dof = 3 * n_nodes
-    K = sp.csr_matrix((np.concatenate(kdata), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(n_dof, n_dof))
-    Ms = sp.csr_matrix((np.concatenate(mdata), (np.concatenate(mrows), np.concatenate(mcols))),
-                       shape=(n_nodes, n_nodes))
+    itype = np.int32 if n_dof < 2 ** 31 - 1 else np.int64
+    edofs = sk2node[np.asarray(basis.element_dofs)].T.astype(itype)     # (n_el, nb) nodes
+    n_el, nk, nm = len(elements), (3 * nb) ** 2, nb * nb
+    rows, cols = np.empty(n_el * nk, itype), np.empty(n_el * nk, itype)
+    kdata = np.empty(n_el * nk)
+    mrows, mcols = np.empty(n_el * nm, itype), np.empty(n_el * nm, itype)
+    mdata = np.empty(n_el * nm)
+    block = max(1, int(block_bytes // (8 * 4 * nk)))
+    for start in range(0, n_el, block):
+        sl = slice(start, min(start + block, n_el))
+        ke, me = element_matrices(basis, elements[sl], lam[sl], mu[sl], rho[sl])
+        nodes = edofs[elements[sl]]
+        dofs = (3 * nodes[:, :, None] + np.arange(3, dtype=itype)).reshape(len(nodes), -1)
+        ks, ms = slice(sl.start * nk, sl.stop * nk), slice(sl.start * nm, sl.stop * nm)
+        rows[ks].reshape(ke.shape)[...] = dofs[:, :, None]
+        cols[ks].reshape(ke.shape)[...] = dofs[:, None, :]
+        kdata[ks] = ke.ravel()
+        mrows[ms].reshape(me.shape)[...] = nodes[:, :, None]
+        mcols[ms].reshape(me.shape)[...] = nodes[:, None, :]
+        mdata[ms] = me.ravel()
+    K = sp.coo_matrix((kdata, (rows, cols)), shape=(n_dof, n_dof)).tocsr()
+    Ms = sp.coo_matrix((mdata, (mrows, mcols)), shape=(n_nodes, n_nodes)).tocsr()
     M = sp.kron(Ms, sp.identity(3, format="csr"), format="csr")
     return symmetrised(K), symmetrised(M)
 
