@@ -426,3 +426,19 @@ def test_model_is_sparse_and_frozen():
     assert model.K.format == "csr" and model.M.format == "csr"
     with pytest.raises(dataclasses.FrozenInstanceError):
         model.K = None
+
+
+def test_export_to_meshio_round_trips_the_fe_mesh(tmp_path):
+    """tet10 generated on a tetra mesh exported with a mode shape, written to VTU and read
+    back: the same nodes (mid-side nodes included) and elements, the field as (n, 3)."""
+    model = assemble_solid(box_mesh((0.2, 0.1, 0.1), (2, 1, 1), cell_type="tetra"),
+                           element="tet10", **STEEL)
+    shape = np.arange(model.n_dof, dtype=float)
+    path = tmp_path / "mode.vtu"
+    model.to_meshio({"mode_1": shape}).write(path)
+    back = read_mesh(path)
+    assert back.cell_type == "tetra10"
+    np.testing.assert_allclose(back.points, model.points)
+    np.testing.assert_array_equal(back.cells, model.elements)
+    with pytest.raises(ModelError, match=r"point_data\['bad'\]"):
+        model.to_meshio({"bad": np.zeros(5)})

@@ -125,7 +125,7 @@ class SolidModel:
         return float(ex @ (self.M @ ex))
 
     # ------------------------------------------------------------------ sets
-    def nodes(self, nodes) -> np.ndarray:
+    def node_ids(self, nodes) -> np.ndarray:
         """FE node indices from a set name or an index array (checked, unique, sorted)."""
         if isinstance(nodes, str):
             if nodes not in self.node_sets:
@@ -139,7 +139,7 @@ class SolidModel:
 
     def set_dofs(self, name) -> np.ndarray:
         """DOFs of a node set (name or node indices), node-major: ``(x, y, z)`` per node."""
-        return self.dofs[self.nodes(name)].ravel()
+        return self.dofs[self.node_ids(name)].ravel()
 
     def nodes_where(self, predicate: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
         """FE nodes whose coordinates satisfy ``predicate(points (n, 3)) -> bool (n,)``.
@@ -178,7 +178,7 @@ class SolidModel:
             right-handed about the outward normal.
         """
         member = np.zeros(self.n_nodes, dtype=bool)
-        member[self.nodes(nodes)] = True
+        member[self.node_ids(nodes)] = True
         facets = self.boundary_facets
         return facets[member[facets].all(axis=1)]
 
@@ -218,13 +218,46 @@ class SolidModel:
     def element_size(self, nodes) -> float:
         """Mean edge length [m] (corner to corner) of the elements touching ``nodes``."""
         member = np.zeros(self.n_nodes, dtype=bool)
-        member[self.nodes(nodes)] = True
+        member[self.node_ids(nodes)] = True
         touching = member[self.elements].any(axis=1)
         if not touching.any():
             raise ModelError("element_size: no element touches the given nodes")
         edges = edge_table(self.cell_type)
         x = self.points[self.elements[touching]]
         return float(np.linalg.norm(x[:, edges[:, 1]] - x[:, edges[:, 0]], axis=2).mean())
+
+    # ------------------------------------------------------------------ export
+    def to_meshio(self, point_data: Mapping[str, np.ndarray] | None = None):
+        """The FE mesh as a :class:`meshio.Mesh`, e.g. to write mode shapes for ParaView.
+
+        Parameters
+        ----------
+        point_data : mapping of str to ndarray, optional
+            Nodal fields, shape ``(n_nodes, ...)``, or DOF vectors of shape ``(n_dof,)``
+            (stored as ``(n_nodes, 3)`` displacement vectors).
+
+        Examples
+        --------
+        >>> from fricdamp.structure.solid import assemble_solid, box_mesh
+        >>> model = assemble_solid(box_mesh((1.0, 1.0, 1.0), (1, 1, 1)), youngs_modulus=1.0,
+        ...                        poisson_ratio=0.3, density=1.0)
+        >>> model.to_meshio({"u": np.ones(model.n_dof)}).point_data["u"].shape
+        (8, 3)
+        """
+        import meshio
+
+        data = {}
+        for key, val in (point_data or {}).items():
+            arr = np.asarray(val)
+            if arr.shape[:1] == (self.n_dof,) and arr.ndim == 1:
+                arr = arr.reshape(self.n_nodes, 3)
+            if arr.shape[:1] != (self.n_nodes,):
+                raise ModelError(f"point_data[{key!r}] must have shape (n_nodes, ...) = "
+                                 f"({self.n_nodes}, ...) or (n_dof,) = ({self.n_dof},), "
+                                 f"got {arr.shape}")
+            data[str(key)] = arr
+        return meshio.Mesh(self.points, [(self.cell_type, self.elements)], point_data=data,
+                           cell_sets={k: [v] for k, v in self.cell_sets.items()})
 
     # ------------------------------------------------------------------ parts
     def with_scaled_parts(self, *, stiffness: Mapping[str, float] | None = None,
