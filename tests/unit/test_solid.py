@@ -159,7 +159,7 @@ def test_quadratic_mesh_nodes_are_its_points_and_match_generated_midside_nodes()
     np.testing.assert_array_equal(a.point_nodes, np.arange(len(quad.points)))
     np.testing.assert_array_equal(b.point_nodes, np.arange(len(lin.points)))
     np.testing.assert_array_equal(a.dofs, np.arange(a.n_dof).reshape(-1, 3))
-    np.testing.assert_array_equal(a.set_dofs([2, 0]), [0, 1, 2, 6, 7, 8])
+    np.testing.assert_array_equal(a.set_dofs([2, 0]), [6, 7, 8, 0, 1, 2])
     order_a = np.lexsort(np.round(a.points, 12).T)
     order_b = np.lexsort(np.round(b.points, 12).T)
     np.testing.assert_allclose(a.points[order_a], b.points[order_b], atol=1e-15)
@@ -182,6 +182,8 @@ def test_node_helpers():
     assert model.n_elements == 8 and model.element_type == "hex20"
     with pytest.raises(ModelError, match="node set 'nope' not found"):
         model.set_dofs("nope")
+    with pytest.raises(ModelError, match="node indices must lie in"):
+        model.set_dofs([model.n_nodes])
     with pytest.raises(ModelError, match="predicate must return"):
         model.nodes_where(lambda x: x[:, 0][:3] > 0)
 

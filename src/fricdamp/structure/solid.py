@@ -126,19 +126,20 @@ class SolidModel:
 
     # ------------------------------------------------------------------ sets
     def node_ids(self, nodes) -> np.ndarray:
-        """FE node indices from a set name or an index array (checked, unique, sorted)."""
+        """FE node indices from a set name (sorted) or an index array (checked, order kept)."""
         if isinstance(nodes, str):
             if nodes not in self.node_sets:
                 raise ModelError(f"node set {nodes!r} not found; available: "
                                  f"{sorted(self.node_sets)}")
             return self.node_sets[nodes]
-        idx = np.unique(np.asarray(nodes, dtype=np.int64).ravel())
-        if idx.size and (idx[0] < 0 or idx[-1] >= self.n_nodes):
+        idx = np.asarray(nodes, dtype=np.int64).ravel()
+        if idx.size and (idx.min() < 0 or idx.max() >= self.n_nodes):
             raise ModelError(f"node indices must lie in [0, {self.n_nodes - 1}]")
         return idx
 
     def set_dofs(self, name) -> np.ndarray:
-        """DOFs of a node set (name or node indices), node-major: ``(x, y, z)`` per node."""
+        """DOFs of a node set (name or node indices, order kept), node-major: ``(x, y, z)``
+        per node."""
         return self.dofs[self.node_ids(name)].ravel()
 
     def nodes_where(self, predicate: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
