@@ -4,12 +4,16 @@
 
     fricdamp identify signals.csv --rig rig.toml --out DIR [--frequency 30] [--periods 20]
                       [--kinematics paper|exact] [--format auto|csv|uff]
+                      [--sample-rate HZ] [--skip-rows N] [--time-column NAME]
+                      [--time-unit ms] [--sensitivity A=10.35,B=10.79,C=10.29]
+                      [--skip-periods auto|N] [--no-diagnostics]
 
 Runs paper 002's post-processing (:func:`fricdamp.analysis.identify.identify_joint`) on measured
 accelerations -- a CSV table (time + channels, units in the header) or a Universal File
-(dataset 58) -- and writes ``summary.json`` (dissipated energy, rotation and torque amplitudes,
-paper 002's damping ratio), ``loop.csv`` (one period of the loop, averaged over the periods
-analysed) and ``loop.png`` into ``DIR``.
+(dataset 58) -- and writes ``identification.json`` (dissipated energy, damping ratios, their
+95 % confidence intervals, block scatter, conditioning, status and warnings),
+``summary.json`` (the same and the inputs), ``loop.csv`` (one period of the loop, averaged over
+the periods analysed) and ``loop.png`` into ``DIR``. docs/identify.md explains every key.
 
 The rig file (TOML, unknown keys rejected)::
 
@@ -30,18 +34,43 @@ The rig file (TOML, unknown keys rejected)::
     B = "acc_B"
     C = "acc_C"
     # unit = "g"                   optional: unit of the three channels (overrides the file)
+    # sensitivity_mV_per_g = {A = 10.35, B = 10.79, C = 10.29}   voltage channels (mV or V)
+
+    [input]                        # optional: how to read a CSV (command-line options override)
+    # sample_rate_hz = 5120.0      time = k / rate (files with a sample index or no time)
+    # skip_rows = 0                metadata lines before the header
+    # time_column = "Time"         name (or 0-based index) of the time column
+    # time_unit = "ms"             s, ms, us, ns or min (overrides the header)
 
     [processing]                   # optional (the command-line options override it)
     frequency_hz = 30.0            # default: estimated from the signals
-    periods = 20                   # last whole periods analysed; default all
+    periods = 20                   # last whole periods analysed; default all after the
+                                   # start-up transient
+    skip_periods = "auto"          # start-up transient: "auto" (default) or a number
     kinematics = "paper"           # or "exact"
     gravity_sensing = false        # with "exact": sensors read g sin(theta)
     filter = "harmonic"            # or "highpass"
     # n_harmonics = 20
     # f_low_hz = 15.0
 
-Exit codes: 0 success, 2 invalid input (one line on stderr naming the key or file and what
-is allowed), 1 internal error.
+    [trust]                        # optional: the diagnostics (defaults shown)
+    # diagnostics = true
+    # position_std_m = 0.5e-3      sensor positions, one sigma
+    # sensitivity_std = 0.005      relative, one sigma
+    # delay_std_s = 1e-6           channel delays, one sigma
+    # noise = true                 fresh noise at the record's level in each draw
+    # samples = 1000               Monte Carlo draws
+    # seed = 0
+    # max_relative_width = 0.2     flag when the 95 % interval of E_d is wider than this x E_d
+    # max_block_scatter = 0.1      ... or the block energies scatter more than this
+    # block_periods = 3
+    # min_blocks = 5
+    # min_conditioning = 0.01      warn when joint/beam rotation is below this
+
+Exit codes: 0 success; 3 identified but **unreliable** (the outputs are written; the
+warnings say why: 95 % interval of the energy wider than the limit or including zero,
+block scatter above the limit, negative loop); 2 invalid input (one line on stderr naming
+the key or file and what is allowed); 1 internal error.
 """
 
 from __future__ import annotations
@@ -57,10 +86,10 @@ from fricdamp._version import __version__
 from fricdamp.case import Section, validate_section
 from fricdamp.errors import CaseError, ModelError
 
-__all__ = ["ChannelsSection", "ProcessingSection", "RigFile", "RigSection", "add_subparsers",
-           "handle_identify", "load_rig_file", "main"]
+__all__ = ["ChannelsSection", "InputSection", "ProcessingSection", "RigFile", "RigSection",
+           "TrustSection", "add_subparsers", "handle_identify", "load_rig_file", "main"]
 
-EXIT_OK, EXIT_FAILURE, EXIT_INVALID = 0, 1, 2
+EXIT_OK, EXIT_FAILURE, EXIT_INVALID, EXIT_UNRELIABLE = 0, 1, 2, 3
 
 Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
@@ -81,13 +110,31 @@ class RigSection(Section):
     gravity_m_per_s2: NonNegative = 9.81
 
 
+class SensitivitySection(Section):
+    """``sensitivity_mV_per_g``: per accelerometer [mV/g], for voltage channels."""
+
+    A: Positive | None = None
+    B: Positive | None = None
+    C: Positive | None = None
+
+
 class ChannelsSection(Section):
-    """``[channels]``: column names of the accelerometers and an optional common unit."""
+    """``[channels]``: column names of the accelerometers, a common unit, sensitivities."""
 
     A: str = "A"
     B: str = "B"
     C: str = "C"
     unit: str | None = None
+    sensitivity_mV_per_g: SensitivitySection | None = None
+
+
+class InputSection(Section):
+    """``[input]``: how to read a CSV file."""
+
+    sample_rate_hz: Positive | None = None
+    skip_rows: Annotated[int, Field(ge=0)] = 0
+    time_column: str | Annotated[int, Field(ge=0)] | None = None
+    time_unit: Literal["s", "ms", "us", "ns", "min"] | None = None
 
 
 class ProcessingSection(Section):
@@ -100,14 +147,47 @@ class ProcessingSection(Section):
     filter: Literal["harmonic", "highpass"] = "harmonic"
     n_harmonics: Annotated[int, Field(ge=1)] | None = None
     f_low_hz: Positive | None = None
+    skip_periods: Literal["auto"] | Annotated[int, Field(ge=0)] = "auto"
+
+
+class TrustSection(Section):
+    """``[trust]``: the diagnostics (defaults: those of the library's dataclasses)."""
+
+    diagnostics: bool = True
+    position_std_m: NonNegative | None = None
+    sensitivity_std: NonNegative | None = None
+    delay_std_s: NonNegative | None = None
+    noise: bool | None = None
+    samples: Annotated[int, Field(ge=20)] | None = None
+    seed: Annotated[int, Field(ge=0)] | None = None
+    max_relative_width: Positive | None = None
+    max_block_scatter: Positive | None = None
+    block_periods: Annotated[int, Field(ge=1)] | None = None
+    min_blocks: Annotated[int, Field(ge=2)] | None = None
+    min_conditioning: NonNegative | None = None
+
+    def objects(self):
+        """``(MeasurementUncertainty, TrustThresholds)`` with the keys given."""
+        from fricdamp.analysis.identify import MeasurementUncertainty, TrustThresholds
+
+        given = {k: v for k, v in self.model_dump().items() if v is not None}
+        unc = {k: given[k] for k in ("position_std_m", "sensitivity_std", "delay_std_s",
+                                     "noise", "samples", "seed") if k in given}
+        thr = {k: given[k] for k in ("max_relative_width", "max_block_scatter",
+                                     "block_periods", "min_blocks", "min_conditioning")
+               if k in given}
+        return MeasurementUncertainty(**unc), TrustThresholds(**thr)
 
 
 class RigFile(Section):
-    """A rig file: ``[rig]``, optional ``[channels]`` and ``[processing]``."""
+    """A rig file: ``[rig]``, optional ``[channels]``, ``[input]``, ``[processing]``,
+    ``[trust]``."""
 
     rig: RigSection
     channels: ChannelsSection = ChannelsSection()
+    input: InputSection = InputSection()
     processing: ProcessingSection = ProcessingSection()
+    trust: TrustSection = TrustSection()
 
 
 def load_rig_file(path):
@@ -158,18 +238,27 @@ def load_rig_file(path):
     return spec, geom
 
 
-def read_signals(path, fmt: str = "auto"):
-    """Read a CSV or UFF signal file (``fmt`` "auto" decides by the extension)."""
+def read_signals(path, fmt: str = "auto", **csv_options):
+    """Read a CSV or UFF signal file (``fmt`` "auto" decides by the extension).
+
+    ``csv_options`` (``sample_rate``, ``skip_rows``, ``time_column``, ``time_unit``) go to
+    :func:`fricdamp.analysis.signals.read_signals_csv`; a UFF file carries its own time base,
+    so they are refused for it.
+    """
     p = Path(path)
     if fmt == "auto":
         fmt = "uff" if p.suffix.lower() in (".uff", ".unv", ".uf", ".bunv") else "csv"
+    given = {k: v for k, v in csv_options.items() if v not in (None, 0)}
     if fmt == "uff":
         from fricdamp.analysis.uff import read_signals_uff
 
+        if given:
+            raise CaseError(f"{p.name} is a Universal File: {', '.join(sorted(given))} apply "
+                            "to CSV files only (a UFF dataset 58 carries its time base)")
         return read_signals_uff(p)
     from fricdamp.analysis.signals import read_signals_csv
 
-    return read_signals_csv(p)
+    return read_signals_csv(p, **{k: v for k, v in csv_options.items() if v is not None})
 
 
 def add_subparsers(subparsers) -> None:
@@ -178,13 +267,21 @@ def add_subparsers(subparsers) -> None:
     Sets ``func`` (and ``handler``) to :func:`handle_identify`, which takes the parsed
     arguments and returns the exit code.
     """
+    import argparse
+
     s = subparsers.add_parser(
         "identify", help="torque-rotation loop of a joint from three accelerometers "
                          "(paper 002)",
         description="Run paper 002's post-processing on measured accelerations (CSV with "
                     "units in the header, or Universal File dataset 58): kinematics, "
-                    "FFT integration over whole periods, joint torque, loop area and damping "
-                    "ratio. Writes summary.json, loop.csv and loop.png.")
+                    "FFT integration over whole periods after the start-up transient, joint "
+                    "torque, loop area and damping ratios, with diagnostics (block scatter, "
+                    "conditioning, 95 %% confidence intervals from a Monte Carlo of sensor "
+                    "positions, sensitivities, delays and noise). Writes identification.json, "
+                    "summary.json, loop.csv and loop.png.",
+        epilog="Exit codes: 0 identified; 3 identified but unreliable (outputs written, the "
+               "warnings say why); 2 invalid input; 1 internal error. Keys: docs/identify.md.",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     s.add_argument("signals", help="signal file: CSV (time + channels) or UFF (.uff/.unv)")
     s.add_argument("--rig", required=True, metavar="RIG.toml",
                    help="rig geometry, channel names and processing options (TOML)")
@@ -193,11 +290,35 @@ def add_subparsers(subparsers) -> None:
     s.add_argument("--frequency", type=float, metavar="HZ",
                    help="excitation frequency (default: [processing] or estimated)")
     s.add_argument("--periods", type=int, metavar="N",
-                   help="last whole periods analysed (default: [processing] or all)")
+                   help="last whole periods analysed (default: [processing] or all after the "
+                        "start-up transient)")
+    s.add_argument("--skip-periods", metavar="auto|N",
+                   help="leading periods dropped as start-up transient (default: "
+                        "[processing] or auto-detected)")
     s.add_argument("--kinematics", choices=("paper", "exact"),
                    help="linear kinematics of the paper, or exact (default: [processing])")
     s.add_argument("--format", choices=("auto", "csv", "uff"), default="auto",
                    help="signal file format (default: by extension)")
+    s.add_argument("--sample-rate", type=float, metavar="HZ",
+                   help="CSV: sampling rate; the time is k / rate (for files with a sample "
+                        "index or without time)")
+    s.add_argument("--skip-rows", type=int, metavar="N",
+                   help="CSV: metadata lines before the header (default: [input] or 0)")
+    s.add_argument("--time-column", metavar="NAME|INDEX",
+                   help="CSV: the time column (default: by name, else the first column)")
+    s.add_argument("--time-unit", choices=("s", "ms", "us", "ns", "min"),
+                   help="CSV: unit of the time column (overrides the header)")
+    s.add_argument("--sensitivity", metavar="A=S,B=S,C=S",
+                   help="sensitivities [mV/g] of voltage channels (mV or V), e.g. "
+                        "A=10.35,B=10.79,C=10.29")
+    s.add_argument("--position-std", type=float, metavar="M",
+                   help="uncertainty (one sigma) of the sensor positions (default 0.5e-3 m)")
+    s.add_argument("--sensitivity-std", type=float, metavar="FRACTION",
+                   help="relative uncertainty of the sensitivities (default 0.005)")
+    s.add_argument("--delay-std", type=float, metavar="S",
+                   help="uncertainty of the channel delays (default 1e-6 s)")
+    s.add_argument("--no-diagnostics", action="store_true",
+                   help="skip the diagnostics (no confidence intervals, never exit 3)")
     s.add_argument("--traceback", action="store_true",
                    help="show the Python traceback of internal errors")
     s.add_argument("-v", "--verbose", action="store_true", help="log what happens")
@@ -212,14 +333,31 @@ def _err(msg: str) -> None:
     print(f"fricdamp: error: {msg}", file=sys.stderr)
 
 
-def handle_identify(args) -> int:
-    """``fricdamp identify``: run the pipeline, write the outputs; return the exit code."""
-    import numpy as np
+def _warn(msg: str) -> None:
+    print(f"fricdamp: warning: {msg}", file=sys.stderr)
 
-    from fricdamp.analysis.identify import identify_from_table
-    from fricdamp.iofiles import save_figure, write_json, write_text
 
-    spec, geom = load_rig_file(args.rig)
+def _sensitivities(text: str) -> dict:
+    """``"A=10.35,B=10.79"`` -> ``{"A": 10.35, "B": 10.79}`` (CaseError naming the option)."""
+    out = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        role, sep, value = part.partition("=")
+        role = role.strip().upper()
+        try:
+            val = float(value)
+        except ValueError:
+            val = float("nan")
+        if not sep or role not in ("A", "B", "C") or not val > 0 or val == float("inf"):
+            raise CaseError(f"--sensitivity must be like A=10.35,B=10.79,C=10.29 (mV/g > 0 "
+                            f"for A, B, C), got {text!r}")
+        out[role] = val
+    return out
+
+
+def _options(args, spec):
+    """Processing, reading and diagnostic options: the rig file, overridden by the flags."""
+    from dataclasses import replace
+
     proc = spec.processing.model_dump()
     if args.frequency is not None:
         if not args.frequency > 0:
@@ -229,20 +367,75 @@ def handle_identify(args) -> int:
         if args.periods < 1:
             raise CaseError(f"--periods must be an integer >= 1, got {args.periods}")
         proc["periods"] = args.periods
+    if args.skip_periods is not None:
+        text = args.skip_periods.strip().lower()
+        if text != "auto" and not (text.isdigit()):
+            raise CaseError(f"--skip-periods must be 'auto' or an integer >= 0, got "
+                            f"{args.skip_periods!r}")
+        proc["skip_periods"] = "auto" if text == "auto" else int(text)
     if args.kinematics is not None:
         proc["kinematics"] = args.kinematics
-    table = read_signals(args.signals, args.format)
+    inp = spec.input
+    csv = {"sample_rate": inp.sample_rate_hz, "skip_rows": inp.skip_rows,
+           "time_column": inp.time_column, "time_unit": inp.time_unit}
+    if args.sample_rate is not None:
+        if not args.sample_rate > 0:
+            raise CaseError(f"--sample-rate must be > 0 Hz, got {args.sample_rate:g}")
+        csv["sample_rate"] = args.sample_rate
+    if args.skip_rows is not None:
+        if args.skip_rows < 0:
+            raise CaseError(f"--skip-rows must be an integer >= 0, got {args.skip_rows}")
+        csv["skip_rows"] = args.skip_rows
+    if args.time_column is not None:
+        tc = args.time_column
+        csv["time_column"] = int(tc) if tc.isdigit() else tc
+    if args.time_unit is not None:
+        csv["time_unit"] = args.time_unit
+    sens = {}
+    if spec.channels.sensitivity_mV_per_g is not None:
+        sens = {k: v for k, v in spec.channels.sensitivity_mV_per_g.model_dump().items()
+                if v is not None}
+    if args.sensitivity is not None:
+        sens.update(_sensitivities(args.sensitivity))
+    unc, thr = spec.trust.objects()
+    for flag, key in (("position_std", "position_std_m"), ("sensitivity_std",
+                                                            "sensitivity_std"),
+                      ("delay_std", "delay_std_s")):
+        value = getattr(args, flag)
+        if value is not None:
+            if not value >= 0 or value == float("inf"):
+                raise CaseError(f"--{flag.replace('_', '-')} must be >= 0, got {value:g}")
+            unc = replace(unc, **{key: value})
+    proc.update(diagnostics=spec.trust.diagnostics and not args.no_diagnostics,
+                uncertainty=unc, thresholds=thr)
+    return proc, csv, sens
+
+
+def handle_identify(args) -> int:
+    """``fricdamp identify``: run the pipeline, write the outputs; return the exit code."""
+    import numpy as np
+
+    from fricdamp.analysis.identify import identify_from_table
+    from fricdamp.iofiles import save_figure, write_json, write_text
+
+    spec, geom = load_rig_file(args.rig)
+    proc, csv, sens = _options(args, spec)
+    table = read_signals(args.signals, args.format, **csv)
     ch = spec.channels
     t0 = time.perf_counter()
     ident = identify_from_table(table, geom, channels={"A": ch.A, "B": ch.B, "C": ch.C},
-                                units=ch.unit, **proc)
+                                units=ch.unit, sensitivity_mV_per_g=sens or None, **proc)
     elapsed = time.perf_counter() - t0
+    code = EXIT_UNRELIABLE if ident.status == "unreliable" else EXIT_OK
 
     out = Path(args.out) if args.out else Path("fricdamp-out") / \
         f"identify-{Path(args.signals).stem}"
     out.mkdir(parents=True, exist_ok=True)
-    summary = {"fricdamp_version": __version__, "signals": str(args.signals),
-               "rig": str(args.rig), "identification": ident.to_dict(),
+    d = ident.to_dict()
+    head = {"fricdamp_version": __version__, "signals": str(args.signals),
+            "rig": str(args.rig), "exit_code": code}
+    write_json(out / "identification.json", {**head, **d})
+    summary = {**head, "identification": d,
                "geometry": {"d1_m": geom.sensor_a, "d2_m": geom.sensor_b,
                             "d3_m": geom.joint_arm1, "d4_m": geom.sensor_c,
                             "d5_m": geom.joint_arm2, "m2_kg": geom.beam2_mass,
@@ -266,15 +459,23 @@ def handle_identify(args) -> int:
     fig.tight_layout()
     save_figure(fig, out / "loop.png")
     plt.close(fig)
-    d = ident.to_dict()
     _out(f"fricdamp {__version__}: identified {Path(args.signals).name} "
-         f"({ident.n_periods} periods at {ident.frequency_hz:.5g} Hz, {d['kinematics']} "
-         "kinematics)")
+         f"({ident.n_periods} periods at {ident.frequency_hz:.5g} Hz after "
+         f"{ident.skipped_periods} start-up periods, {d['kinematics']} kinematics)")
     _out(f"dissipated energy {d['dissipated_energy_J']:.4g} J per cycle, rotation amplitude "
          f"{d['rotation_amplitude_rad']:.4g} rad, torque amplitude "
-         f"{d['torque_amplitude_Nm']:.4g} N m, damping ratio (002) {d['damping_ratio']:.4g}")
-    _out(f"wrote summary.json, loop.csv and loop.png to {out}")
-    return EXIT_OK
+         f"{d['torque_amplitude_Nm']:.4g} N m, damping ratio (002) {d['damping_ratio']:.4g}, "
+         f"energy-based {d['damping_ratio_energy']:.4g}")
+    if ident.trust is not None:
+        lo, hi = ident.trust.energy_interval
+        bs = ident.trust.block_scatter
+        _out(f"95 % interval of the energy [{lo:.4g}, {hi:.4g}] J; block scatter "
+             f"{'n/a' if bs is None else f'{bs:.3g}'}; joint/beam rotation "
+             f"{d['conditioning']['joint_to_beam_rotation']:.3g}; status {ident.status}")
+    for w in ident.warnings:
+        _warn(w)
+    _out(f"wrote identification.json, summary.json, loop.csv and loop.png to {out}")
+    return code
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -148,3 +148,34 @@ def test_missing_files(files, tmp_path, capsys):
     assert "does not exist" in capsys.readouterr().err
     with pytest.raises(CaseError, match="does not exist"):
         load_rig_file(tmp_path / "none.toml")
+
+
+def test_identification_json_and_exit_3_when_unreliable(files, tmp_path, capsys):
+    """identification.json carries the results contract of issue 16; a result whose 95 %
+    interval is wider than [trust] max_relative_width exits with 3 (outputs written)."""
+    sig, rig = files
+    out = tmp_path / "ok"
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out)]) == 0
+    d = json.loads((out / "identification.json").read_text())
+    for key in ("dissipated_energy_J", "damping_ratio", "confidence_95", "block_scatter",
+                "conditioning", "warnings"):
+        assert key in d
+    lo, hi = d["confidence_95"]["dissipated_energy_J"]
+    assert lo < d["dissipated_energy_J"] < hi
+    assert set(d["confidence_95"]) >= {"dissipated_energy_J", "damping_ratio"}
+    assert d["status"] == "ok" and d["exit_code"] == 0
+    assert d["warnings"] == [w for w in d["warnings"] if "block(s)" in w]  # 12 periods: a note
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["identification"]["confidence_95"] == d["confidence_95"]
+    capsys.readouterr()
+    rig.write_text(RIG + "\n[trust]\nmax_relative_width = 1e-6\n")
+    out3 = tmp_path / "unreliable"
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out3)]) == 3
+    d3 = json.loads((out3 / "identification.json").read_text())
+    assert d3["status"] == "unreliable" and d3["exit_code"] == 3
+    assert "interval of E_d" in d3["warnings"][0]
+    assert (out3 / "loop.png").is_file()
+    assert "fricdamp: warning:" in capsys.readouterr().err
+    # no diagnostics: never 3
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out3),
+                 "--no-diagnostics"]) == 0

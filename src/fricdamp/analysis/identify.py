@@ -54,7 +54,20 @@ Damping ratio
 :func:`fricdamp.analysis.damping.paper002_damping_ratio`: ``xi = E_d / (pi theta_max
 M_max)``, paper 002 (26)-(27), with the half peak-to-peak amplitudes of rotation and torque.
 For a linear viscous loop this is (about) the **loss factor** ``eta = 2 zeta``, not the
-damping ratio zeta of a mode.
+damping ratio zeta of a mode. Peak-to-peak values depend on the sampling rate and on the
+harmonics kept (the ringing of the rig's joint mode at each stick-slip transition adds
+peaks), so the result also carries an energy-based ratio ``xi_E = E_d / (pi Theta_1 M_1)``
+with the amplitudes of the fundamentals: ``E_d / (2 pi U_1)``, ``U_1 = Theta_1 M_1 / 2`` the
+peak energy of the first-harmonic exchange. Integrals and fundamentals converge with the
+sampling rate and the harmonic count; ``xi_E = xi`` for a linear loop and tends to 1 (not
+4/pi) in gross slip.
+
+Trust
+-----
+Every identification carries a verdict (:class:`TrustReport`, from
+:mod:`fricdamp.analysis._identify_trust`): block-wise energy scatter, conditioning, and a
+Monte Carlo of the sensor positions, sensitivities, delays and noise giving 95 % intervals
+of E_d and xi; ``status`` is "unreliable" when the interval is too wide (docs/identify.md).
 """
 
 from __future__ import annotations
@@ -66,9 +79,27 @@ from typing import Literal
 
 import numpy as np
 
+from fricdamp.analysis._identify_core import (
+    first_harmonic,
+    kinematics_exact,
+    kinematics_linear,
+    process_window,
+    torque_002,
+)
+from fricdamp.analysis._identify_trust import (
+    MeasurementUncertainty,
+    TrustReport,
+    TrustThresholds,
+    assess,
+)
+from fricdamp.analysis._identify_window import (
+    check_time,
+    estimate_frequency,
+    refine_frequency,
+    steady_start,
+    whole_periods,
+)
 from fricdamp.analysis.damping import paper002_damping_ratio
-from fricdamp.analysis.energy import steady_cycle
-from fricdamp.analysis.signals import fft_integrate
 from fricdamp.errors import ModelError, as_finite_array, check_positive
 
 log = logging.getLogger(__name__)
@@ -77,6 +108,9 @@ __all__ = [
     "ACCELERATION_UNITS",
     "JointIdentification",
     "JointRigGeometry",
+    "MeasurementUncertainty",
+    "TrustReport",
+    "TrustThresholds",
     "acceleration_scale",
     "beam_accelerations",
     "beam_accelerations_exact",
@@ -209,11 +243,8 @@ def beam_accelerations(geometry: JointRigGeometry, gamma_a, gamma_b, gamma_c):
     [10.0, 0.0, 2.0]
     """
     ga, gb, gc = (np.asarray(x, dtype=float) for x in (gamma_a, gamma_b, gamma_c))
-    d1, d2, d3 = geometry.sensor_a, geometry.sensor_b, geometry.joint_arm1
-    th1 = (ga - gb) / (d1 - d2)  # 002 (B.6)
-    x1 = 0.5 * (ga + gb - (d1 + d2) * th1)  # 002 (B.6)
-    th2 = (gc - (x1 + d3 * th1)) / (geometry.sensor_c + geometry.joint_arm2)  # (B.3), (B.10)
-    return th1, th2, x1
+    return kinematics_linear(ga, gb, gc, geometry.sensor_a, geometry.sensor_b,
+                             geometry.joint_arm1, geometry.sensor_c, geometry.joint_arm2)
 
 
 def beam_accelerations_exact(geometry: JointRigGeometry, gamma_a, gamma_b, gamma_c, theta1,
@@ -244,16 +275,8 @@ def beam_accelerations_exact(geometry: JointRigGeometry, gamma_a, gamma_b, gamma
     ga, gb, gc, t1, t2, w1 = (np.asarray(x, dtype=float) for x in
                               (gamma_a, gamma_b, gamma_c, theta1, theta2, theta1_dot))
     g = geometry.gravity if gravity_sensing else 0.0
-    d1, d2, d3 = geometry.sensor_a, geometry.sensor_b, geometry.joint_arm1
-    ga = ga - g * np.sin(t1)
-    gb = gb - g * np.sin(t1)
-    gc = gc - g * np.sin(t2)
-    th1 = (ga - gb) / (d1 - d2)
-    x1 = 0.5 * (ga + gb - (d1 + d2) * th1) / np.cos(t1)
-    rel = t1 - t2
-    o_t = x1 * np.cos(t2) + d3 * (th1 * np.cos(rel) - w1 * w1 * np.sin(rel))
-    th2 = (gc - o_t) / (geometry.sensor_c + geometry.joint_arm2)
-    return th1, th2, x1
+    return kinematics_exact(ga, gb, gc, t1, t2, w1, geometry.sensor_a, geometry.sensor_b,
+                            geometry.joint_arm1, geometry.sensor_c, geometry.joint_arm2, g)
 
 
 def joint_torque(geometry: JointRigGeometry, theta1, theta2, theta1_dot, theta1_dd, theta2_dd,
@@ -279,196 +302,9 @@ def joint_torque(geometry: JointRigGeometry, theta1, theta2, theta1_dot, theta1_
     """
     t1, t2, w1, a1, a2, ax = (np.asarray(x, dtype=float) for x in
                               (theta1, theta2, theta1_dot, theta1_dd, theta2_dd, x1_dd))
-    m2, i2, g = geometry.beam2_mass, geometry.beam2_inertia, geometry.gravity
-    d3, d5 = geometry.joint_arm1, geometry.joint_arm2
-    rel = t1 - t2
-    return ((i2 + m2 * d5 * d5) * a2 + m2 * d5 * ax * np.cos(t2)  # 002 (8)
-            + m2 * d3 * d5 * (a1 * np.cos(rel) - w1 * w1 * np.sin(rel))
-            + m2 * g * d5 * np.sin(t2))
+    return torque_002(t1, t2, w1, a1, a2, ax, geometry.beam2_mass, geometry.beam2_inertia,
+                      geometry.gravity, geometry.joint_arm1, geometry.joint_arm2)
 
-
-# ============================================================================ signals
-def estimate_frequency(x, dt: float, *, f_min: float = 0.0) -> float:
-    """Frequency [Hz] of the strongest spectral line of a sampled signal.
-
-    Hann window, largest bin above ``f_min``, then a parabola through the logarithms of the
-    magnitudes of that bin and its neighbours (accurate to a few thousandths of a bin for a
-    clean line: for N periods in the record, a relative error of about 1e-3 / N).
-
-    Parameters
-    ----------
-    x : array_like, shape (n,)
-        Signal, n >= 16.
-    dt : float
-        Sampling interval [s].
-    f_min : float, optional
-        Lines below this frequency [Hz] are ignored (e.g. a suspension mode); default 0.
-
-    Returns
-    -------
-    float
-        Frequency [Hz].
-    """
-    x = as_finite_array("x", x, ndim=1)
-    if x.size < 16:
-        raise ModelError(f"estimating a frequency needs at least 16 samples, got {x.size}")
-    dt = float(check_positive("dt", dt, unit="s"))
-    n = x.size
-    spec = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(n)))
-    freq = np.fft.rfftfreq(n, dt)
-    spec[freq < max(f_min, 1e-300)] = 0.0
-    k = int(np.argmax(spec))
-    if spec[k] <= 0.0:
-        raise ModelError("the signal has no spectral line (it is constant or zero)")
-    if 0 < k < spec.size - 1 and spec[k - 1] > 0 and spec[k + 1] > 0:
-        a, b, c = np.log(spec[k - 1]), np.log(spec[k]), np.log(spec[k + 1])
-        den = a - 2.0 * b + c
-        delta = 0.5 * (a - c) / den if den < 0 else 0.0
-    else:
-        delta = 0.0
-    return float((k + delta) / (n * dt))
-
-
-def _check_time(t) -> tuple[np.ndarray, float]:
-    t = as_finite_array("time", t, ndim=1)
-    if t.size < 16:
-        raise ModelError(f"the record needs at least 16 samples, got {t.size}")
-    steps = np.diff(t)
-    if np.any(steps <= 0):
-        raise ModelError("time must be strictly increasing")
-    dt = float((t[-1] - t[0]) / (t.size - 1))  # the mean step: no rounding of single steps
-    if np.max(np.abs(steps - dt)) > 1e-6 * dt + 1e-12 * abs(t[-1]):
-        i = int(np.argmax(np.abs(steps - dt)))
-        raise ModelError(f"the samples must be uniformly spaced (FFT integration): the step "
-                         f"at sample {i} is {steps[i]:.6g} s, the mean step {dt:.6g} s; "
-                         "resample the record first")
-    return t, dt
-
-
-def _largest_prime_factor(m: int) -> int:
-    m = int(m)
-    largest, p = 1, 2
-    while p * p <= m:
-        while m % p == 0:
-            largest, m = p, m // p
-        p += 1
-    return max(largest, m)
-
-
-#: FFT lengths whose prime factors are all below this are fast (pocketfft); a record whose
-#: length has a large prime factor (9973 Hz sampling) is ~5x slower to transform
-_FFT_PRIME_LIMIT = 100
-
-
-def _whole_periods(t, x, dt, frequency, periods):
-    """The last whole periods of the record: ``(t, x, n_periods, resampled, dt)``.
-
-    Raw samples whenever a whole number of periods spans a whole number of samples (to 1e-6
-    of a sample) whose prime factors are small (a fast FFT length): every period asked when
-    a period is a whole number of samples, otherwise the largest such number of periods not
-    below 3/4 of those asked (10240 Hz at 30 Hz: 3 periods are 1024 samples). Otherwise the
-    periods are resampled by a cubic spline (:func:`steady_cycle`, error O(h^4)) on a fast
-    FFT length of at least ``ceil(samples per period)`` points per period.
-    """
-    from scipy.fft import next_fast_len
-
-    per = 1.0 / (frequency * dt)  # samples per period
-    if per < 8:
-        raise ModelError(f"{per:.3g} samples per period of {frequency:g} Hz: at least 8 are "
-                         "needed (sample faster)")
-    # n raw samples hold n / per whole periods (half-open window); interpolation needs the
-    # closing sample: (n - 1) / per
-    avail_raw = int(np.floor(t.size / per + 1e-9))
-    avail_int = int(np.floor((t.size - 1) / per + 1e-9))
-    if avail_raw < 1:
-        raise ModelError(f"the record ({(t.size - 1) * dt:.4g} s) is shorter than one period "
-                         f"of {frequency:g} Hz")
-    if periods is None:
-        periods = avail_raw
-    if int(periods) != periods or periods < 1:
-        raise ModelError(f"periods must be an integer >= 1, got {periods!r}")
-    periods = int(periods)
-    if periods > avail_raw:
-        raise ModelError(f"periods = {periods} whole periods of {frequency:g} Hz asked for, "
-                         f"the record holds {avail_raw}")
-    candidates = range(periods, int(np.ceil(0.75 * periods)) - 1, -1)
-    for n_per in candidates:
-        m = n_per * per
-        if abs(m - round(m)) <= 1e-6 and _largest_prime_factor(round(m)) < _FFT_PRIME_LIMIT:
-            m = int(round(m))
-            return t[-m:].copy(), x[-m:].copy(), n_per, False, dt
-    periods = min(periods, avail_int)
-    if periods < 1:  # pragma: no cover - needs a record of exactly one period
-        raise ModelError("the record is too short to be resampled on one whole period")
-    periods = next((n for n in range(periods, int(np.ceil(0.75 * periods)) - 1, -1)
-                    if _largest_prime_factor(n) < _FFT_PRIME_LIMIT), periods)
-    spc = int(next_fast_len(int(np.ceil(per - 1e-9)), real=True))
-    tw, xw = steady_cycle(t, x, 1.0 / frequency, n_cycles=periods, samples_per_cycle=spc,
-                          interpolation="cubic")
-    return tw, xw, periods, True, 1.0 / (frequency * spc)
-
-
-def _harmonic_mask(n: int, n_periods: int, n_harmonics: int | None) -> np.ndarray:
-    """rfft bins of the harmonics 1..n_harmonics of a record of n_periods periods."""
-    bins = np.arange(n // 2 + 1)
-    keep = (bins % n_periods == 0) & (bins > 0)
-    if n % 2 == 0:
-        keep[-1] = False  # Nyquist: no phase information
-    if n_harmonics is not None:
-        keep &= bins <= n_harmonics * n_periods
-    return keep
-
-
-def _remove_drift(x, n_periods):
-    """Subtract the linear drift estimated from the means of the first and last periods.
-
-    The per-period means of a periodic signal are all equal, so the estimate is exactly zero
-    for it (unlike a least-squares line, which correlates with the oscillation) and exactly
-    the slope of a linear drift (sensor offset creeping, integration constant).
-    """
-    n = x.shape[0]
-    if n_periods < 2:
-        return x
-    m = n // n_periods
-    slope = (x[n - m:].mean(axis=0) - x[:m].mean(axis=0)) / (n - m)  # per sample
-    return x - slope * (np.arange(n) - 0.5 * (n - 1))[:, None]
-
-
-def _spectral(x, dt, n_periods, mode, n_harmonics, f_low):
-    """Filter and integrate the accelerations x (n, 3) = (theta1'', theta2'', x1'').
-
-    Returns the filtered accelerations (n, 3), the angular velocity of beam 1 (n,) (the
-    only velocity the torque needs), the integrals (n, 3), and the fraction of the signal's
-    RMS (without the mean) that the filter removed (drift included).
-    """
-    from scipy import fft as sfft
-
-    n = x.shape[0]
-    x0 = x - x.mean(axis=0)
-    total = float(np.sum(x0 * x0))
-    x = _remove_drift(x, n_periods)
-    spec = sfft.rfft(x, axis=0)
-    freq = sfft.rfftfreq(n, dt)
-    if mode == "harmonic":
-        keep = _harmonic_mask(n, n_periods, n_harmonics)
-    else:
-        keep = freq >= max(f_low, 1e-300)
-        if n % 2 == 0:
-            keep[-1] = False
-    spec[~keep] = 0.0
-    kept = sfft.irfft(spec, n=n, axis=0)
-    residual = float(np.sqrt(np.sum((x0 - kept) ** 2) / total)) if total > 0 else 0.0
-    if mode == "harmonic":
-        iw = np.zeros(freq.size, dtype=complex)
-        iw[keep] = 1.0 / (2j * np.pi * freq[keep])
-        spec *= iw[:, None]
-        vel = sfft.irfft(spec[:, 0], n=n)
-        spec *= iw[:, None]
-        dis = sfft.irfft(spec, n=n, axis=0)
-        return kept, vel, dis, residual
-    vel = fft_integrate(x[:, 0], dt, 1, f_low=f_low)
-    dis = fft_integrate(x, dt, 2, f_low=f_low)
-    return x - x.mean(axis=0), vel, dis, residual
 
 
 # ============================================================================ result
@@ -497,8 +333,8 @@ class JointIdentification:
         by ``n_periods``.
     cycle_energy : ndarray, shape (n_periods,)
         Loop area of each period [J] (split at the nearest samples when a period is not a
-        whole number of samples); their spread shows how steady the record is (none left
-        after the harmonic filter).
+        whole number of samples). After the harmonic filter every period is alike, so
+        their spread says nothing about noise: see ``trust.block_scatter``.
     rotation_amplitude : float
         ``theta_max`` = half the peak-to-peak relative rotation [rad].
     torque_amplitude : float
@@ -516,6 +352,15 @@ class JointIdentification:
         percent for a clean steady record.
     source : str
         Where the signals came from.
+    damping_ratio_energy : float
+        Energy-based ``xi_E = E_d / (pi Theta_1 M_1)`` with the fundamentals' amplitudes
+        [-] (module docstring): independent of sampling rate and harmonic count.
+    skipped_periods : int
+        Leading whole periods dropped as start-up transient.
+    time_snapped : bool
+        True when rounded time stamps were rebuilt on a uniform grid.
+    trust : TrustReport or None
+        The diagnostics and verdict (None when ``diagnostics=False``).
     """
 
     time: np.ndarray
@@ -537,11 +382,25 @@ class JointIdentification:
     filtered_fraction: float = 0.0
     source: str = ""
     meta: dict = field(default_factory=dict, compare=False)
+    damping_ratio_energy: float = float("nan")
+    skipped_periods: int = 0
+    time_snapped: bool = False
+    trust: TrustReport | None = None
 
     @property
     def samples_per_period(self) -> float:
         """Samples per period of the window (not always a whole number)."""
         return self.time.size / self.n_periods
+
+    @property
+    def status(self) -> str:
+        """``"ok"``, ``"unreliable"`` (see ``warnings``) or ``"unchecked"`` (no diagnostics)."""
+        return "unchecked" if self.trust is None else self.trust.status
+
+    @property
+    def warnings(self) -> tuple:
+        """The diagnostics' findings (empty when unchecked)."""
+        return () if self.trust is None else self.trust.warnings
 
     def cycle(self, samples: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         """One period of the loop (rotation [rad], torque [N m]): the synchronous average.
@@ -565,16 +424,20 @@ class JointIdentification:
         return out[0], out[1]
 
     def to_dict(self) -> dict:
-        """JSON-able key numbers (units in the key names)."""
+        """JSON-able key numbers (units in the key names) and, if checked, the verdict."""
         ce = self.cycle_energy
         spread = float(np.std(ce) / abs(np.mean(ce))) if ce.size > 1 and np.mean(ce) else 0.0
-        return {
+        out = {
             "dissipated_energy_J": float(self.dissipated_energy),
             "rotation_amplitude_rad": float(self.rotation_amplitude),
             "torque_amplitude_Nm": float(self.torque_amplitude),
             "damping_ratio": float(self.damping_ratio),
             "damping_ratio_definition": "paper 002 (26)-(27): xi = E_d / (pi theta_max M_max)"
                                         ", about the loss factor (2 zeta) of a viscous loop",
+            "damping_ratio_energy": float(self.damping_ratio_energy),
+            "damping_ratio_energy_definition": "xi_E = E_d / (pi Theta_1 M_1), amplitudes of "
+                                               "the fundamentals (= xi for a linear loop, "
+                                               "-> 1 in gross slip)",
             "frequency_hz": float(self.frequency_hz),
             "n_periods": int(self.n_periods),
             "samples_per_period": float(self.samples_per_period),
@@ -583,8 +446,15 @@ class JointIdentification:
             "kinematics": self.kinematics,
             "filter": self.filter,
             "resampled": bool(self.resampled),
+            "skipped_periods": int(self.skipped_periods),
+            "time_snapped": bool(self.time_snapped),
             "source": self.source,
+            "status": self.status,
+            "warnings": list(self.warnings),
         }
+        if self.trust is not None:
+            out.update(self.trust.to_dict())
+        return out
 
     def plot(self, ax=None, *, label: str | None = None, all_periods: bool = False):
         """Torque vs relative rotation (mrad); returns the axes."""
@@ -595,8 +465,12 @@ class JointIdentification:
         r, f = (self.rotation, self.torque) if all_periods else self.cycle()
         r = np.append(r, r[0])
         f = np.append(f, f[0])
-        ax.plot(1e3 * r, f, lw=1.2, label=label or
-                f"E_d = {self.dissipated_energy:.3g} J, xi = {self.damping_ratio:.3g}")
+        if label is None:
+            label = f"E_d = {self.dissipated_energy:.3g} J, xi = {self.damping_ratio:.3g}"
+            if self.trust is not None:
+                lo, hi = self.trust.energy_interval
+                label += f"\n95 %: [{lo:.3g}, {hi:.3g}] J ({self.status})"
+        ax.plot(1e3 * r, f, lw=1.2, label=label)
         ax.set_xlabel(r"relative rotation $\theta_1-\theta_2$ [mrad]")
         ax.set_ylabel("joint torque M [N m]")
         ax.grid(alpha=0.3)
@@ -611,12 +485,20 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
                    gravity_sensing: bool = False,
                    filter: Literal["harmonic", "highpass"] = "harmonic",
                    n_harmonics: int | None = None, f_low_hz: float | None = None,
-                   iterations: int = 3, source: str = "") -> JointIdentification:
+                   iterations: int = 3, source: str = "",
+                   skip_periods: int | Literal["auto"] = "auto", diagnostics: bool = True,
+                   uncertainty: MeasurementUncertainty | None = None,
+                   thresholds: TrustThresholds | None = None) -> JointIdentification:
     """Torque-rotation loop, dissipated energy and damping ratio from three accelerometers.
 
     Paper 002 Fig. 7: accelerations -> (B.1)-(B.10) -> FFT/IFFT integration -> torque (8)
     -> loop -> energy and (26)-(27). The care taken with the integration:
 
+    * time stamps rounded by the acquisition software (e.g. written with 7 decimals) are
+      rebuilt on a uniform grid (:func:`fricdamp.analysis.signals.uniform_time`);
+    * the start-up transient is dropped (``skip_periods="auto"``: the leading periods whose
+      fundamentals differ from the record's steady values,
+      :func:`fricdamp.analysis._identify_window.steady_start`);
     * the last ``periods`` **whole periods** of the excitation are analysed, with a whole
       number of samples per period (the record is resampled by a cubic spline when the
       sampling rate is not commensurate with the frequency), so the FFT sees a periodic
@@ -631,12 +513,14 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
       (:func:`fricdamp.analysis.signals.fft_integrate`).
 
     The constants of integration (mean rotations and displacement) are not measurable and
-    are set to zero; they change neither the loop area nor the amplitudes.
+    are set to zero; they change neither the loop area nor the amplitudes. With
+    ``diagnostics`` (default) the result carries a :class:`TrustReport`: block scatter,
+    conditioning, 95 % intervals from a Monte Carlo of ``uncertainty`` and the status.
 
     Parameters
     ----------
     time : array_like, shape (n,)
-        Uniform sample times [s].
+        Uniform (or rounded uniform) sample times [s].
     gamma_a, gamma_b, gamma_c : array_like, shape (n,)
         Tangential accelerations at A, B (beam 1) and C (beam 2) [m/s^2].
     geometry : JointRigGeometry
@@ -646,7 +530,8 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
         when omitted (:func:`estimate_frequency`).
     periods : int, optional
         Whole periods to analyse, counted from the end of the record (the steady state);
-        default every whole period of the record.
+        default every whole period after the start-up transient. A number reaching into
+        the transient is honoured with a warning.
     kinematics : {"paper", "exact"}, optional
         The paper's linear relations (B.1)-(B.10) (default), or the exact sensor kinematics
         solved by ``iterations`` fixed-point passes (module docstring).
@@ -662,6 +547,15 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
         Fixed-point passes of the exact kinematics (default 3).
     source : str, optional
         Description of the signals' origin, kept in the result.
+    skip_periods : int or "auto", optional
+        Leading whole periods dropped as start-up transient; "auto" (default) detects them,
+        0 keeps the whole record.
+    diagnostics : bool, optional
+        Compute the :class:`TrustReport` (default True; ~0.1-0.5 s).
+    uncertainty : MeasurementUncertainty, optional
+        Uncertainties of the measurement chain for the Monte Carlo (default: its defaults).
+    thresholds : TrustThresholds, optional
+        When the result is flagged unreliable (default: its defaults).
 
     Returns
     -------
@@ -677,7 +571,7 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
     ----------
     Bouchaala et al. (2014), section 3, Fig. 7, eqs (8), (26)-(27), appendix B.
     """
-    t, dt = _check_time(time)
+    t, dt, snapped = check_time(time)
     chans = []
     for name, g in (("gamma_a", gamma_a), ("gamma_b", gamma_b), ("gamma_c", gamma_c)):
         arr = as_finite_array(name, g, ndim=1)
@@ -692,38 +586,64 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
         raise ModelError(f"iterations must be an integer >= 1, got {iterations!r}")
     if n_harmonics is not None and (int(n_harmonics) != n_harmonics or n_harmonics < 1):
         raise ModelError(f"n_harmonics must be an integer >= 1, got {n_harmonics!r}")
-    G = np.empty((t.size, 3))
-    for j, c in enumerate(chans):
-        G[:, j] = c
-    if frequency_hz is None:
+    if skip_periods != "auto" and (isinstance(skip_periods, str) or int(skip_periods)
+                                   != skip_periods or skip_periods < 0):
+        raise ModelError(f"skip_periods must be 'auto' or an integer >= 0, got "
+                         f"{skip_periods!r}")
+    G = np.column_stack(chans)
+    estimated = frequency_hz is None
+    if estimated:
         strongest = int(np.argmax(np.std(G, axis=0)))
         frequency_hz = estimate_frequency(G[:, strongest], dt)
-        log.info("estimated excitation frequency %.6g Hz", frequency_hz)
+        if frequency_hz * dt < 0.125:  # refined on the second half, before the transient test
+            frequency_hz = refine_frequency(G[t.size // 2:, strongest], dt, frequency_hz)
     frequency_hz = float(check_positive("frequency_hz", frequency_hz, unit="Hz"))
     if frequency_hz >= 0.5 / dt:
         raise ModelError(f"frequency_hz = {frequency_hz:g} Hz is above the Nyquist frequency "
                          f"{0.5 / dt:g} Hz of the record")
     f_low = 0.5 * frequency_hz if f_low_hz is None else float(f_low_hz)
+    per = 1.0 / (frequency_hz * dt)
+    if per < 8:
+        raise ModelError(f"{per:.3g} samples per period of {frequency_hz:g} Hz: at least 8 "
+                         "are needed (sample faster)")
 
-    tw, Gw, n_per, resampled, dtw = _whole_periods(t, G, dt, frequency_hz, periods)
+    # start-up transient
+    notes = []
+    if skip_periods == "auto":
+        a1, a2, ax = beam_accelerations(geometry, G[:, 0], G[:, 1], G[:, 2])
+        skip, settled = steady_start(np.column_stack((a1, a2, ax, a1 - a2)), dt,
+                                     frequency_hz)
+        if not settled:
+            notes.append("the record may not reach a steady state: the fundamentals of the "
+                         "last two quarters differ")
+    else:
+        skip = int(skip_periods)
+    if estimated:  # refined again on the whole steady part (the phase drift of its periods)
+        frequency_hz = refine_frequency(G[int(round(skip * per)):, strongest], dt,
+                                        frequency_hz)
+        per = 1.0 / (frequency_hz * dt)
+        log.info("estimated excitation frequency %.9g Hz", frequency_hz)
+    start = int(round(skip * per))
+    if start >= t.size:
+        raise ModelError(f"skip_periods = {skip} leaves no samples of the record "
+                         f"({int(t.size / per)} periods)")
+    steady_avail = int(np.floor((t.size - start) / per + 1e-9))
+    if periods is not None and int(periods) == periods and steady_avail < periods \
+            <= int(np.floor(t.size / per + 1e-9)):
+        notes.append(f"periods = {int(periods)} reach into the start-up transient (the first "
+                     f"{skip} of the record's periods); analysing them anyway")
+        start, skip = 0, 0
+    t_s, G_s = t[start:], G[start:]
+    tw, Gw, n_per, resampled, dtw = whole_periods(t_s, G_s, dt, frequency_hz, periods)
     del G
-    acc = np.empty_like(Gw)
-    acc[:, 0], acc[:, 1], acc[:, 2] = beam_accelerations(geometry, Gw[:, 0], Gw[:, 1],
-                                                         Gw[:, 2])
-    a, v, d, residual = _spectral(acc, dtw, n_per, filter, n_harmonics, f_low)
-    if kinematics == "exact":
-        for _ in range(int(iterations)):
-            acc[:, 0], acc[:, 1], acc[:, 2] = beam_accelerations_exact(
-                geometry, Gw[:, 0], Gw[:, 1], Gw[:, 2], d[:, 0], d[:, 1], v,
-                gravity_sensing=gravity_sensing)
-            a, v, d, residual = _spectral(acc, dtw, n_per, filter, n_harmonics, f_low)
-    theta1, theta2, x1 = d[:, 0], d[:, 1], d[:, 2]
-    torque = joint_torque(geometry, theta1, theta2, v, a[:, 0], a[:, 1], a[:, 2])
-    rotation = theta1 - theta2
+    options = dict(kinematics=kinematics, gravity_sensing=gravity_sensing, filter=filter,
+                   n_harmonics=n_harmonics, f_low=f_low, iterations=iterations)
+    loop = process_window(Gw, dtw, n_per, geometry, **options)
+    theta1, theta2, x1 = loop.theta1, loop.theta2, loop.x1
+    rotation, torque = loop.rotation, loop.torque
 
-    # loop area: trapezoids closed from the last sample to the first (one whole window)
     inc = 0.5 * (torque + np.roll(torque, -1)) * (np.roll(rotation, -1) - rotation)
-    e_d = float(np.sum(inc)) / n_per
+    e_d = float(loop.energy)
     csum = np.concatenate(([0.0], np.cumsum(inc)))
     bounds = np.round(np.arange(n_per + 1) * (tw.size / n_per)).astype(int)
     cycles = np.diff(csum[bounds])
@@ -732,20 +652,39 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
     if th_amp <= 0 or m_amp <= 0:
         raise ModelError("the identified rotation or torque does not vary: no loop")
     xi = paper002_damping_ratio(e_d, th_amp, m_amp, allow_negative=True)
-    if e_d < 0:
+    xi_e = e_d / (np.pi * float(first_harmonic(rotation, n_per))
+                  * float(first_harmonic(torque, n_per)))
+    if e_d < 0 and not diagnostics:
         log.warning("negative loop area %.3g J: the loop runs the wrong way (check the sign "
                     "conventions and channel assignment) or is noise only", e_d)
+    trust = None
+    if diagnostics:
+        trust = assess(energy=e_d, damping_ratio=float(xi), damping_ratio_energy=float(xi_e),
+                       Gw=Gw, n_periods=n_per, frequency=frequency_hz, loop=loop,
+                       geometry=geometry, options=options, t_steady=t_s, G_steady=G_s, dt=dt,
+                       unc=uncertainty or MeasurementUncertainty(),
+                       thr=thresholds or TrustThresholds(), notes=notes)
+        if trust.status != "ok":  # the verdict travels with the result; callers report it
+            log.info("identification unreliable: %s", "; ".join(trust.warnings))
+    elif notes:
+        log.warning("%s", "; ".join(notes))
     return JointIdentification(
         time=tw, theta1=theta1, theta2=theta2, x1=x1, rotation=rotation, torque=torque,
-        frequency_hz=frequency_hz, n_periods=n_per, dissipated_energy=float(e_d),
+        frequency_hz=frequency_hz, n_periods=n_per, dissipated_energy=e_d,
         cycle_energy=cycles, rotation_amplitude=th_amp, torque_amplitude=m_amp,
         damping_ratio=float(xi), kinematics=kinematics, filter=filter, resampled=resampled,
-        filtered_fraction=residual, source=source)
+        filtered_fraction=loop.residual, source=source, damping_ratio_energy=float(xi_e),
+        skipped_periods=skip, time_snapped=snapped, trust=trust)
+
+
+#: Voltage units of channels that a sensitivity [mV/g] turns into accelerations.
+VOLTAGE_UNITS: dict[str, float] = {"mv": 1.0, "v": 1e3, "": 1.0}
 
 
 def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
                         channels: Mapping[str, str] | None = None,
                         units: Mapping[str, str] | str | None = None,
+                        sensitivity_mV_per_g: Mapping[str, float] | None = None,
                         **options) -> JointIdentification:
     """Run :func:`identify_joint` on a table of signals (CSV or UFF reader output).
 
@@ -762,18 +701,27 @@ def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
     units : str or mapping, optional
         Unit of every channel (a string) or per role ``{"A": "g", ...}``; overrides the
         units of the table (needed when the file has none).
+    sensitivity_mV_per_g : mapping, optional
+        Per role ``{"A": 10.35, ...}`` [mV/g], > 0: those channels hold the sensors'
+        voltages (unit mV, V, or none = mV), turned into accelerations by
+        ``a = U / S * 9.80665`` m/s^2 (paper 002 §2 gives 10.35, 10.79, 10.29 mV/g).
     **options
         Passed to :func:`identify_joint`.
 
     Raises
     ------
     ModelError
-        A missing channel (listing the columns), an unknown or missing unit.
+        A missing channel (listing the columns), an unknown or missing unit, a sensitivity
+        <= 0 or given for a channel already in acceleration units.
     """
     channels = dict(channels or {"A": "A", "B": "B", "C": "C"})
     if set(channels) != {"A", "B", "C"}:
         raise ModelError(f"channels must map exactly A, B and C to column names, got "
                          f"{sorted(channels)}")
+    sens = dict(sensitivity_mV_per_g or {})
+    if not set(sens) <= {"A", "B", "C"}:
+        raise ModelError(f"sensitivity_mV_per_g must map A, B or C to mV/g, got "
+                         f"{sorted(sens)}")
     if "time" not in table:
         raise ModelError("the signal table has no 'time' column")
     table_units = dict(getattr(table, "units", {}) or {})
@@ -790,7 +738,17 @@ def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
             unit = units[role]
         else:
             unit = table_units.get(col, "")
-        data.append(np.asarray(table[col], dtype=float) * acceleration_scale(unit,
-                                                                             channel=col))
+        values = np.asarray(table[col], dtype=float)
+        if role in sens:
+            s = float(check_positive(f"sensitivity_mV_per_g[{role!r}]", sens[role],
+                                     unit="mV/g"))
+            key = str(unit).strip().lower()
+            if key not in VOLTAGE_UNITS:
+                raise ModelError(f"channel {col!r} is in {unit!r}, not a voltage (V, mV): a "
+                                 "sensitivity [mV/g] applies to voltage channels; drop it "
+                                 "for channels already in acceleration units")
+            data.append(values * VOLTAGE_UNITS[key] / s * ACCELERATION_UNITS["g"])
+        else:
+            data.append(values * acceleration_scale(unit, channel=col))
     source = options.pop("source", "") or str(getattr(table, "path", ""))
     return identify_joint(table["time"], *data, geometry, source=source, **options)

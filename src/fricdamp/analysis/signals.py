@@ -17,7 +17,7 @@ import numpy as np
 
 from fricdamp.errors import ModelError, as_finite_array
 
-__all__ = ["SignalTable", "fft_integrate", "read_signals_csv"]
+__all__ = ["SignalTable", "fft_integrate", "read_signals_csv", "uniform_time"]
 
 
 def fft_integrate(x, dt: float, order: int = 1, *, f_low: float | None = None,
@@ -112,6 +112,104 @@ def fft_integrate(x, dt: float, order: int = 1, *, f_low: float | None = None,
 
 
 # ---------------------------------------------------------------------------------------------
+# time bases
+# ---------------------------------------------------------------------------------------------
+
+#: time stamps may deviate from the uniform grid by less than this fraction of a step
+#: (rounding when written with few decimals); more means missing or repeated samples
+_JITTER_LIMIT = 0.5
+#: ... and the median deviation over each twentieth of the record by less than this, or a
+#: tenth of the largest deviation (a persistent offset is a gap in the record, not rounding)
+_OFFSET_LIMIT = 0.01
+#: a rate within this relative distance of a whole number of hertz is that whole number
+_RATE_SNAP = 1e-5
+
+
+def uniform_time(time, *, name: str = "time") -> tuple[np.ndarray, float, bool]:
+    """Rebuild a near-uniform time base as an exactly uniform one (rounded time stamps).
+
+    Lab software often writes time columns with a fixed number of decimals (5120 Hz with 7
+    decimals is ``0.0001953`` per step, 2.6e-4 of a step off), which breaks the whole-period
+    arithmetic of FFT integration. The rule, the same as the UFF reader's
+    (:func:`fricdamp.analysis.uff.read_signals_uff`):
+
+    * the grid is the least-squares line ``t0 + k dt`` through the stamps;
+    * every stamp must lie within half a step of it (otherwise a sample is missing or
+      repeated), and the median deviation over each twentieth of the record within 1 % of a
+      step or a tenth of the largest deviation (otherwise the record has a gap or a jump:
+      rounding does not shift whole blocks);
+    * a rate ``1/dt`` within 1e-5 of a whole number of hertz is taken as that number
+      (acquisition rates are whole numbers);
+    * the time stamps are then replaced by ``t0 + k dt``.
+
+    Parameters
+    ----------
+    time : array_like, shape (n,)
+        Time stamps [s], strictly increasing, n >= 2.
+    name : str, optional
+        Name used in error messages.
+
+    Returns
+    -------
+    t : ndarray, shape (n,)
+        Uniform time base [s].
+    dt : float
+        Its step [s].
+    snapped : bool
+        True when the stamps were changed by more than round-off (1e-9 of a step).
+
+    Raises
+    ------
+    ModelError
+        Non-increasing or non-uniform stamps (naming the sample and the step).
+
+    Examples
+    --------
+    >>> t = np.round(np.arange(6) / 5120.0, 7)          # written with 7 decimals
+    >>> t2, dt, snapped = uniform_time(t)
+    >>> round(1 / dt, 6), snapped
+    (5120.0, True)
+    """
+    t = as_finite_array(name, time, ndim=1)
+    if t.size < 2:
+        raise ModelError(f"{name} needs at least 2 samples, got {t.size}")
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        i = int(np.flatnonzero(steps <= 0)[0])
+        raise ModelError(f"{name} must be strictly increasing: sample {i + 1} is "
+                         f"{t[i + 1]!r} s after {t[i]!r} s")
+    n = t.size
+    k = np.arange(n, dtype=float)
+    kc = k - 0.5 * (n - 1)
+    dt = float(np.dot(kc, t - t.mean()) / np.dot(kc, kc)) if n > 2 else float(steps[0])
+    n_chunks = min(20, max(1, n // 8))
+
+    def fit(step):
+        grid = float(np.mean(t - k * step)) + k * step
+        dev = (t - grid) / step
+        offset = max(abs(float(np.median(c))) for c in np.array_split(dev, n_chunks))
+        jitter = float(np.max(np.abs(dev)))
+        return grid, dev, (jitter <= _JITTER_LIMIT
+                           and offset <= max(_OFFSET_LIMIT, 0.1 * jitter))
+
+    rate = 1.0 / dt
+    grid, dev, ok = fit(dt)
+    if abs(rate - round(rate)) <= _RATE_SNAP * rate and round(rate) > 0:
+        whole = fit(1.0 / float(round(rate)))
+        if whole[2]:  # the whole-hertz rate, unless it drifts off the stamps
+            dt = 1.0 / float(round(rate))
+            grid, dev, ok = whole
+    if not ok:
+        i = int(np.argmax(np.abs(steps - dt)))
+        raise ModelError(f"{name}: the samples must be uniformly spaced (FFT integration): "
+                         f"the step at sample {i} is {steps[i]:.6g} s, the mean step "
+                         f"{dt:.6g} s (a gap or a repeated sample); resample the record or "
+                         "give the sample rate")
+    snapped = bool(np.max(np.abs(dev)) > 1e-9)
+    return (grid if snapped else t), dt, snapped
+
+
+# ---------------------------------------------------------------------------------------------
 # CSV
 # ---------------------------------------------------------------------------------------------
 
@@ -164,7 +262,9 @@ def _split(line: str, delimiter: str | None) -> list[str]:
 
 def read_signals_csv(path, *, time_column: str | int | None = None,
                      delimiter: str | None = None, decimal: str | None = None,
-                     skip_rows: int = 0, time_scale: float | None = None) -> SignalTable:
+                     skip_rows: int = 0, time_scale: float | None = None,
+                     time_unit: str | None = None,
+                     sample_rate: float | None = None) -> SignalTable:
     """Read a table of sampled signals (CSV, semicolon or tab separated, decimal comma).
 
     Format: optional comment lines (``#``, ``%``, ``//``) and ``skip_rows`` metadata lines,
@@ -177,7 +277,11 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
     The time column is ``time_column`` (name or 0-based index), else the first column whose
     name is a usual time name (time, t, zeit, temps, ...), else the first column. It is
     returned under the key ``"time"`` in seconds: a unit of ms, us or min is converted
-    (``time_scale`` overrides), and it must be strictly increasing.
+    (``time_unit`` or ``time_scale`` override the header), and it must be strictly
+    increasing. A first column that is a **sample index** (named sample, index, n, no, #,
+    ... or holding consecutive integers without a unit) is never read as seconds: give
+    ``sample_rate`` (the time is then ``k / sample_rate``, and the index and any time
+    column are left out of the channels), or name the time column.
 
     Parameters
     ----------
@@ -192,7 +296,12 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
     skip_rows : int, optional
         Raw lines to skip before looking for the header (metadata blocks); default 0.
     time_scale : float, optional
-        Factor turning the time column into seconds (overrides its unit).
+        Factor turning the time column into seconds (overrides its unit), > 0.
+    time_unit : str, optional
+        Unit of the time column (s, ms, us, ns, min), overriding the header's.
+    sample_rate : float, optional
+        Sampling rate [Hz], > 0: the time is rebuilt as ``k / sample_rate`` (k = 0, 1, ...)
+        whatever the file's time or index column says.
 
     Returns
     -------
@@ -204,8 +313,8 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
     ------
     ModelError
         Naming the file (and the column and line) when the file is missing or empty, a cell
-        is not a number, a row has the wrong number of fields, the time column is unknown or
-        not strictly increasing.
+        is not a number, a row has the wrong number of fields, the time column is unknown,
+        not strictly increasing or a sample index (without ``sample_rate``).
     """
     p = Path(path)
     if not p.is_file():
@@ -293,8 +402,14 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
                              f"non-finite value {table[bad, j]!r}")
         data[name] = values
 
+    if sample_rate is not None:
+        return _table_at_rate(p, data, names, units, time_column, sample_rate)
     if time_column is None:
         tname = next((nm for nm in names if nm.lower() in _TIME_NAMES), names[0])
+        if tname.lower() not in _TIME_NAMES and _is_index(tname, units[0], data[tname]):
+            raise ModelError(f"{str(p)!r}: column {tname!r} is a sample index, not a time: "
+                             "give the sample rate (sample_rate, --sample-rate) or name the "
+                             "time column (time_column, --time-column)")
     elif isinstance(time_column, (int, np.integer)):
         if not 0 <= time_column < ncol:
             raise ModelError(f"{str(p)!r}: time_column index {time_column} out of range "
@@ -305,12 +420,13 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
             raise ModelError(f"{str(p)!r}: no column named {time_column!r}; columns are "
                              f"{names}")
         tname = time_column
-    tunit = units[names.index(tname)]
+    tunit = units[names.index(tname)] if time_unit is None else str(time_unit)
     if time_scale is None:
         key = tunit.strip().lower()
         if key not in _TIME_SCALE:
             raise ModelError(f"{str(p)!r}: time column {tname!r} has unit {tunit!r}; known "
-                             f"units are s, ms, us, ns, min (or pass time_scale)")
+                             f"units are s, ms, us, ns, min (or pass time_unit, time_scale "
+                             "or the sample rate)")
         time_scale = _TIME_SCALE[key]
     time_scale = float(as_finite_array("time_scale", time_scale))
     if time_scale <= 0:
@@ -328,3 +444,52 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
     unit_map = {"time": "s"}
     unit_map.update({nm: units[j] for j, nm in enumerate(names) if nm != tname})
     return SignalTable(out, units=unit_map, path=p, time_column=tname)
+
+
+_INDEX_NAMES = {"sample", "samples", "index", "idx", "n", "no", "no.", "nr", "#", "count",
+                "point", "points", "sample number", "sample_number", "sample no", "sample_no",
+                "sample index", "sample_index"}
+
+
+def _is_index(name: str, unit: str, values: np.ndarray) -> bool:
+    """A column of sample numbers: an index name, or consecutive integers without a unit."""
+    if name.strip().lower() in _INDEX_NAMES:
+        return True
+    if unit.strip() or values.size < 2:
+        return False
+    return bool(np.all(values == np.round(values)) and np.all(np.diff(values) == 1.0))
+
+
+def _table_at_rate(p: Path, data: dict, names: list, units: list, time_column,
+                   sample_rate) -> SignalTable:
+    """The table with ``time = k / sample_rate``; index and time columns left out."""
+    rate = float(as_finite_array("sample_rate", sample_rate, ndim=0))
+    if rate <= 0:
+        raise ModelError(f"sample_rate must be > 0 Hz, got {sample_rate!r}")
+    drop = set()
+    if time_column is not None:
+        if isinstance(time_column, (int, np.integer)):
+            if not 0 <= time_column < len(names):
+                raise ModelError(f"{str(p)!r}: time_column index {time_column} out of range "
+                                 f"[0, {len(names)})")
+            drop.add(names[int(time_column)])
+        elif time_column not in data:
+            raise ModelError(f"{str(p)!r}: no column named {time_column!r}; columns are "
+                             f"{names}")
+        else:
+            drop.add(time_column)
+    drop.update(nm for nm in names if nm.lower() in _TIME_NAMES)
+    if _is_index(names[0], units[0], data[names[0]]):
+        drop.add(names[0])
+    if "time" in data and "time" not in drop:  # pragma: no cover - 'time' is a time name
+        drop.add("time")
+    n = next(iter(data.values())).size
+    out = {"time": np.arange(n) / rate}
+    unit_map = {"time": "s"}
+    for j, nm in enumerate(names):
+        if nm not in drop:
+            out[nm] = data[nm]
+            unit_map[nm] = units[j]
+    if len(out) == 1:
+        raise ModelError(f"{str(p)!r}: no signal columns left besides time and index")
+    return SignalTable(out, units=unit_map, path=p, time_column=f"<{rate:g} Hz>")
