@@ -39,6 +39,28 @@ def beam():
     return sec, ws, settings
 
 
+def test_cyclic_rows_equal_the_dense_rows(beam):
+    """Contact rows by harmonic (FFT over sectors) = the dense rows of the wheel modes."""
+    sec, ws, settings = beam
+    cw = build_contact_wheel(ws, n_modes=4, n_interface_modes=6)
+    rows = cw.basis.rows
+    G = cw.modes.group_shapes
+    dense = ws.patch.wheel_rows(G("contact_right"), G("contact_left"))
+    np.testing.assert_allclose(rows.dense(), dense, atol=1e-12 * np.abs(dense).max())
+    rng = np.random.default_rng(0)
+    f = rng.standard_normal(dense.shape[0])
+    np.testing.assert_allclose(rows.rows_T(f), dense.T @ f, atol=1e-10 * np.abs(dense.T @ f).max())
+    s = 1.0 / cw.basis.omega2
+    C = rows.compliance(s)
+    ref = (dense * s) @ dense.T
+    np.testing.assert_allclose(C.dense(), ref, atol=1e-12 * np.abs(ref).max())
+    np.testing.assert_allclose(C.diagonal_block(slice(0, 3)), ref[:3, :3],
+                               atol=1e-12 * np.abs(ref).max())
+    k = np.tile([1e5, 2e5, 3e5], 30)
+    x = C.chord(k, 1.0)(f)
+    np.testing.assert_allclose(x + ref @ (k * x), f, atol=1e-10)
+
+
 def test_pipeline_equals_the_beam_wheel(beam):
     sec, ws, settings = beam
     cw = build_contact_wheel(ws, n_modes=10, n_interface_modes=sec.cyclic.left.size)

@@ -42,7 +42,8 @@ from fricdamp.structure.contact_patch import ContactPatch
 from fricdamp.structure.cyclic import CyclicSector
 
 __all__ = ["ContactSettings", "ContactWheel", "SolidDecayRun", "WheelSector",
-           "build_contact_wheel"]
+           "build_contact_wheel", "cyclic_contact_rows", "rayleigh_coefficients",
+           "sector_from_solid"]
 
 log = logging.getLogger(__name__)
 
@@ -138,11 +139,131 @@ class WheelSector:
         object.__setattr__(self, "probe_direction", d / np.linalg.norm(d))
 
 
-def _rayleigh_for(omega_band, zeta: float) -> tuple[float, float]:
-    """(a, b) of Rayleigh damping with ratio ``zeta`` at the two circular frequencies."""
-    w1, w2 = omega_band
-    b = 2 * zeta / (w1 + w2)
-    return zeta * 2 * w1 * w2 / (w1 + w2), b
+def rayleigh_coefficients(damping_ratio: float, band_hz=(40.0, 60.0)) -> tuple[float, float]:
+    """(a, b) [1/s, s] of Rayleigh damping ``a M + b K`` with the ratio ``damping_ratio`` at
+    the two frequencies of ``band_hz`` [Hz] (003: 0.1 %)."""
+    z = float(check_positive("damping_ratio", damping_ratio, allow_zero=True))
+    f1, f2 = (float(f) for f in band_hz)
+    if not 0 < f1 < f2:
+        raise ModelError(f"damping_band_hz must be two frequencies 0 < f1 < f2 [Hz], got "
+                         f"{band_hz!r}")
+    w1, w2 = 2 * np.pi * f1, 2 * np.pi * f2
+    return 2 * z * w1 * w2 / (w1 + w2), 2 * z / (w1 + w2)
+
+
+def sector_from_solid(solid, *, n_sectors: int, youngs_modulus: float,
+                      probe_direction, rayleigh=(0.0, 0.0), axis="z", clamp: str = "clamp",
+                      cut_left: str = "cut_left", cut_right: str = "cut_right",
+                      contact_left: str = "contact_left", contact_right: str = "contact_right",
+                      probe: str = "probe", load: str | None = "load",
+                      info: dict | None = None) -> WheelSector:
+    """A :class:`WheelSector` from an assembled solid sector and its named node sets.
+
+    Parameters
+    ----------
+    solid : SolidModel
+        The sector (:func:`fricdamp.structure.solid.assemble_solid`), in the frame of
+        sector 0 of a wheel whose axis is ``axis``.
+    n_sectors : int
+        Sectors N of the wheel (sector angle 2 pi / N).
+    youngs_modulus : float
+        E at the contact faces [Pa] (penalty stiffness).
+    probe_direction : array_like (3,)
+        Direction of the probe signal (e.g. the blade's flexural direction).
+    rayleigh : (float, float)
+        Material damping ``a M + b K`` [1/s, s] (:func:`rayleigh_coefficients`).
+    axis : {"x", "y", "z"} or array_like (3,)
+        Wheel axis.
+    clamp, cut_left, cut_right, contact_left, contact_right, probe, load : str
+        Names of the node sets: supported nodes (all DOFs fixed), the cyclic cut faces
+        (the right one is the left one rotated by +2 pi / N about the axis), the contact
+        faces (likewise), the probe node (its first node) and the nodes of the modal
+        forces (``None``: a pure-mode start).
+    info : dict, optional
+        Extra descriptive numbers.
+
+    Raises
+    ------
+    ModelError
+        A missing set, faces that do not match node to node, a contact face touching a cut
+        or the clamp.
+    """
+    from fricdamp.structure.contact_patch import pair_faces, patch_from_faces
+
+    N = int(n_sectors)
+    if N < 2:
+        raise ModelError(f"n_sectors must be an integer >= 2, got {n_sectors!r}")
+    alpha = 2 * np.pi / N
+    names = [clamp, cut_left, cut_right, contact_left, contact_right, probe] + (
+        [load] if load else [])
+    for name in names:
+        if name not in solid.node_sets:
+            raise ModelError(f"the mesh has no node set {name!r}; it has "
+                             f"{sorted(solid.node_sets)}")
+    fixed = np.zeros(solid.n_nodes, dtype=bool)
+    fixed[solid.node_sets[clamp]] = True
+    free_dofs = solid.dofs[~fixed].reshape(-1)
+    free_dofs.sort()
+    pos = np.full(solid.n_dof, -1, dtype=np.int64)
+    pos[free_dofs] = np.arange(free_dofs.size)
+
+    def dofs(nodes):
+        return pos[solid.dofs[np.asarray(nodes, dtype=np.int64)].reshape(-1)]
+
+    # cyclic cuts: right[k] is left[k] rotated; supported cut nodes leave both sides
+    L, R = solid.node_sets[cut_left], solid.node_sets[cut_right]
+    partner = pair_faces(solid.points[R], solid.points[L], alpha, axis=axis)
+    Lp = L[partner]
+    keep = ~fixed[R] & ~fixed[Lp]
+    if np.any(fixed[R] != fixed[Lp]):
+        raise ModelError("the clamp is not cyclically symmetric: a cut node is supported on "
+                         "one side only")
+    left, right = dofs(Lp[keep]), dofs(R[keep])
+    # contact faces, pairs in the right face's order
+    CR, CL = solid.node_sets[contact_right], solid.node_sets[contact_left]
+    busy = np.zeros(solid.n_nodes, dtype=bool)
+    busy[np.concatenate([L, R])] = True
+    busy |= fixed
+    if busy[CR].any() or busy[CL].any():
+        raise ModelError("the contact faces must not touch the cut faces or the clamp")
+    facets = solid.surface_facets(CR)
+    ids, areas = solid.tributary_areas(facets)
+    nid, normals = solid.node_normals(facets)
+    a_of = dict(zip(ids.tolist(), areas.tolist(), strict=True))
+    n_of = {int(i): v for i, v in zip(nid, normals, strict=True)}
+    missing = [int(i) for i in CR if int(i) not in a_of]
+    if missing:
+        raise ModelError(f"contact_right nodes {missing[:5]} lie on no boundary facet of the "
+                         "face")
+    patch = patch_from_faces(solid.points[CR], solid.points[CL],
+                             right_areas=[a_of[int(i)] for i in CR],
+                             right_normals=np.array([n_of[int(i)] for i in CR]),
+                             sector_angle=alpha, element_size=solid.element_size(CR),
+                             axis=axis)
+    CLp = CL[patch.left]
+    patch = replace(patch, left=np.arange(patch.n_pairs))
+    named = {"contact_left": dofs(CLp), "contact_right": dofs(CR),
+             "probe": dofs(solid.node_sets[probe][:1])}
+    if load:
+        named["load"] = dofs(solid.node_sets[load])
+    for key, d in named.items():
+        if np.any(d < 0):
+            raise ModelError(f"the {key} nodes must not be supported (clamp)")
+    K = solid.K[free_dofs][:, free_dofs]
+    M = solid.M[free_dofs][:, free_dofs]
+    K = 0.5 * (K + K.T)
+    M = 0.5 * (M + M.T)
+    cyc = CyclicSector(M=M.tocsr(), K=K.tocsr(), left=left, right=right, n_sectors=N,
+                       frame="cartesian", axis=axis, named_dofs=named, name="solid sector")
+    meta = {"element_type": solid.element_type, "n_elements_sector": int(solid.n_elements),
+            "sector_dof": int(free_dofs.size), "sector_nodes": int(solid.n_nodes),
+            "wheel_dof": int(N * (free_dofs.size - right.size)),
+            "contact_pairs_per_tieboss": int(patch.n_pairs),
+            "contact_face_area_m2": patch.area, "contact_element_size_m": patch.element_size,
+            "cut_dof": int(left.size)}
+    meta.update(info or {})
+    return WheelSector(cyc, patch, float(youngs_modulus), np.asarray(probe_direction),
+                       rayleigh=tuple(rayleigh), info=meta)
 
 
 @dataclass(frozen=True, eq=False)
@@ -216,6 +337,35 @@ class SolidDecayRun:
         return out
 
 
+def cyclic_contact_rows(modes, patch: ContactPatch, named_dofs):
+    """Contact rows of the wheel modes by harmonic (:class:`~fricdamp.solvers.
+    modal_transient.CyclicRows`) from the complex sector shapes of ``modes``.
+
+    Contact j joins sector j's right face to sector j + 1's left face; with sector j moving
+    as ``Re/Im(exp(i k j alpha) u~)`` (:class:`~fricdamp.structure.cyclic_reduction.
+    WheelModes`), its relative displacement is ``Re/Im(exp(i k j alpha) X_k)`` with
+    ``X_k = Lambda (u~_right - exp(i k alpha) R u~_left)`` per node pair.
+    """
+    from fricdamp.solvers.modal_transient import CyclicRows
+
+    N = modes.n_sectors
+    alpha = 2 * np.pi / N
+    R = patch.rotation
+    iR = np.asarray(named_dofs["contact_right"]).reshape(-1, 3)[patch.right].reshape(-1)
+    iL = np.asarray(named_dofs["contact_left"]).reshape(-1, 3)[patch.left].reshape(-1)
+    P = patch.n_pairs
+    blocks, columns = [], []
+    for k_idx, nd in enumerate(modes.nds):
+        U = np.asarray(modes.sector_shapes[k_idx])
+        m = U.shape[1]
+        uR = U[iR].reshape(P, 3, m)
+        uL = U[iL].reshape(P, 3, m)
+        rel = uR - np.exp(1j * nd * alpha) * np.einsum("ab,pbm->pam", R, uL)
+        blocks.append(np.einsum("pab,pbm->pam", patch.frames, rel).reshape(3 * P, m))
+        columns.append(modes.columns(int(nd)))
+    return CyclicRows(N, tuple(int(k) for k in modes.nds), tuple(blocks), tuple(columns))
+
+
 class ContactWheel:
     """The reduced wheel of a :class:`WheelSector` with its modal basis (module docstring).
 
@@ -233,14 +383,11 @@ class ContactWheel:
 
         omega2 = np.asarray(modes.omega, dtype=float) ** 2
         a, b = sector.rayleigh
-        Gr = modes.group_shapes("contact_right")
-        Gl = modes.group_shapes("contact_left")
-        B = sector.patch.wheel_rows(Gr, Gl)
-        del Gr, Gl
+        rows = cyclic_contact_rows(modes, sector.patch, reduced.sector.named_dofs)
         Gp = modes.group_shapes("probe")[:, :3]                  # (N, 3, n_modes)
         out = np.einsum("a,jam->jm", sector.probe_direction, Gp)
         n_p = sector.patch.n_pairs
-        self.basis = ModalBasis(omega2, a + b * omega2, B, out,
+        self.basis = ModalBasis(omega2, a + b * omega2, rows, out,
                                 groups=tuple((f"contact {j}", n_p)
                                              for j in range(self.n_sectors)))
         self.load_shapes = (modes.group_shapes("load")

@@ -56,9 +56,203 @@ from fricdamp.solvers.fast_transient import (
 from fricdamp.solvers.timestep import _progress_default, energy_balance_error, energy_residual
 
 __all__ = ["ModalBasis", "ModalStaticResult", "ModalTransientResult", "contact_law_arrays",
-           "integrate_modal", "solve_static_modal", "transient_compliance"]
+           "integrate_modal", "solve_static_modal", "transient_compliance", "CyclicRows"]
 
 log = logging.getLogger(__name__)
+
+
+class _DenseRows:
+    """Contact rows as a dense matrix B (m x n_modes)."""
+
+    def __init__(self, B: np.ndarray):
+        self.B = B
+        self.m, self.n = B.shape
+        self.block_rows = None
+
+    def rows(self, eta):
+        return self.B @ eta
+
+    def rows_T(self, f):
+        return self.B.T @ f
+
+    def compliance(self, s) -> _DenseCompliance:
+        return _DenseCompliance(np.ascontiguousarray((self.B * s) @ self.B.T))
+
+
+class _DenseCompliance:
+    """``C = B diag(s) B^T`` as a dense matrix."""
+
+    def __init__(self, C: np.ndarray):
+        self.C = C
+        self.m = C.shape[0]
+
+    def apply(self, f):
+        return self.C @ f
+
+    def diagonal_block(self, sl: slice):
+        return self.C[sl, sl]
+
+    def dense(self):
+        return self.C
+
+    def chord(self, kdiag, ap):
+        lu = sla.lu_factor(np.eye(self.m) + ap * self.C * kdiag[None, :], check_finite=False)
+        return lambda g: sla.lu_solve(lu, g, check_finite=False)
+
+
+@dataclass(frozen=True)
+class CyclicRows:
+    """Contact rows of the real modes of a cyclic wheel, harmonic by harmonic.
+
+    The wheel has ``N`` sectors and one contact of ``r`` rows per sector (rows
+    ``j r .. (j + 1) r`` belong to contact j). For harmonic ``k`` the modes are the standing
+    waves of the sector eigenvectors whose contact rows on contact ``j`` are
+    ``w Re / Im(exp(2 pi i k j / N) X_k)`` (cos / sin, ``w = sqrt(2/N)``, interleaved
+    cos, sin per eigenvector) or ``w exp(2 pi i k j / N) X_k`` (real, ``k = 0, N/2``,
+    ``w = 1/sqrt(N)``). Then (derived in the module docstring of
+    :mod:`fricdamp.solvers.modal_transient`)::
+
+        u = irfft_j(U_k),  U_k = (N / 2 or N) X_k w (eta_cos - i eta_sin)
+        (B^T f)_cos/sin = w Re / -Im (X_k^H f_k),  f_k = rfft_j(f)
+        C f = irfft_j(H_k f_k),  H_k = X_k diag(s_k) X_k^H
+
+    so products with B cost ``sum_k r n_k`` instead of ``N r n`` and the compliance is
+    block-circulant: ``N/2 + 1`` blocks of ``r x r``.
+
+    Attributes
+    ----------
+    n_sectors : int
+    harmonics : tuple of int
+        Harmonic index k of each block (0 <= k <= N/2, distinct).
+    blocks : tuple of ndarray, each (r, n_k) complex
+        ``X_k``.
+    columns : tuple of slice
+        The modal coordinates of harmonic k (``2 n_k`` for paired harmonics).
+    """
+
+    n_sectors: int
+    harmonics: tuple
+    blocks: tuple
+    columns: tuple
+
+    def __post_init__(self):
+        N = int(self.n_sectors)
+        r = {X.shape[0] for X in self.blocks}
+        if len(r) != 1 or len(self.blocks) != len(self.harmonics) != len(self.columns):
+            raise ModelError("CyclicRows: one block of equal row count per harmonic")
+        object.__setattr__(self, "n_sectors", N)
+        object.__setattr__(self, "blocks", tuple(np.ascontiguousarray(X, dtype=complex)
+                                                 for X in self.blocks))
+        for k, X, sl in zip(self.harmonics, self.blocks, self.columns, strict=True):
+            if not 0 <= k <= N // 2:
+                raise ModelError(f"harmonic {k} out of [0, {N // 2}]")
+            if sl.stop - sl.start != X.shape[1] * (1 if self._real(k) else 2):
+                raise ModelError(f"harmonic {k}: {sl.stop - sl.start} columns for "
+                                 f"{X.shape[1]} sector modes")
+
+    def _real(self, k) -> bool:
+        return (2 * int(k)) % self.n_sectors == 0
+
+    @property
+    def r(self) -> int:
+        return self.blocks[0].shape[0]
+
+    @property
+    def m(self) -> int:
+        return self.n_sectors * self.r
+
+    @property
+    def n(self) -> int:
+        return max(sl.stop for sl in self.columns)
+
+    @property
+    def block_rows(self) -> int:
+        return self.r
+
+    def rows(self, eta):
+        N, r = self.n_sectors, self.r
+        U = np.zeros((N // 2 + 1, r), dtype=complex)
+        for k, X, sl in zip(self.harmonics, self.blocks, self.columns, strict=True):
+            e = eta[sl]
+            if self._real(k):
+                U[k] = N / np.sqrt(N) * (X @ e)
+            else:
+                U[k] = (N / 2) * np.sqrt(2.0 / N) * (X @ (e[0::2] - 1j * e[1::2]))
+        return np.fft.irfft(U, n=N, axis=0).reshape(-1)
+
+    def rows_T(self, f):
+        N = self.n_sectors
+        fh = np.fft.rfft(np.asarray(f).reshape(N, self.r), axis=0)
+        out = np.zeros(self.n)
+        for k, X, sl in zip(self.harmonics, self.blocks, self.columns, strict=True):
+            a = X.conj().T @ fh[k]
+            if self._real(k):
+                out[sl] = a.real / np.sqrt(N)
+            else:
+                w = np.sqrt(2.0 / N)
+                seg = np.empty(2 * a.size)
+                seg[0::2], seg[1::2] = w * a.real, -w * a.imag
+                out[sl] = seg
+        return out
+
+    def compliance(self, s) -> _CyclicCompliance:
+        H = {}
+        for k, X, sl in zip(self.harmonics, self.blocks, self.columns, strict=True):
+            sk = s[sl] if self._real(k) else s[sl][0::2]
+            H[k] = (X * sk) @ X.conj().T
+        return _CyclicCompliance(self.n_sectors, self.r, H)
+
+    def dense(self) -> np.ndarray:
+        """The equivalent dense B (m x n), for tests and small wheels."""
+        eye = np.eye(self.n)
+        return np.column_stack([self.rows(eye[:, i]) for i in range(self.n)])
+
+
+class _CyclicCompliance:
+    """Block-circulant ``C`` from its harmonic blocks ``H_k`` (r x r)."""
+
+    def __init__(self, N: int, r: int, H: dict):
+        self.N, self.r, self.H = N, r, H
+        self.m = N * r
+
+    def _spectral(self, f, fn):
+        fh = np.fft.rfft(np.asarray(f).reshape(self.N, self.r), axis=0)
+        out = np.zeros_like(fh)
+        for k in self.H:
+            out[k] = fn(k, fh[k])
+        return np.fft.irfft(out, n=self.N, axis=0).reshape(-1)
+
+    def apply(self, f):
+        return self._spectral(f, lambda k, x: self.H[k] @ x)
+
+    def diagonal_block(self, sl: slice):
+        if sl.stop - sl.start != self.r or sl.start % self.r:
+            raise ModelError("cyclic compliance: blocks must be whole contacts")
+        c0 = np.zeros((self.r, self.r))
+        for k, Hk in self.H.items():
+            real = (2 * k) % self.N == 0
+            c0 += (Hk.real if real else 2.0 * Hk.real)
+        return c0 / self.N
+
+    def dense(self):
+        eye = np.eye(self.m)
+        return np.column_stack([self.apply(eye[:, i]) for i in range(self.m)])
+
+    def chord(self, kdiag, ap):
+        kd = np.asarray(kdiag).reshape(self.N, self.r)
+        if np.any(kd != kd[0]):
+            raise ModelError("cyclic chord: the contacts must be the same on every sector")
+        lus = {k: sla.lu_factor(np.eye(self.r) + ap * Hk * kd[0][None, :], check_finite=False)
+               for k, Hk in self.H.items()}
+
+        def solve(g):
+            fh = np.fft.rfft(np.asarray(g).reshape(self.N, self.r), axis=0)
+            out = fh.copy()        # harmonics without modes: identity
+            for k, lu in lus.items():
+                out[k] = sla.lu_solve(lu, fh[k], check_finite=False)
+            return np.fft.irfft(out, n=self.N, axis=0).reshape(-1)
+
+        return solve
 
 
 @dataclass(frozen=True)
@@ -71,9 +265,10 @@ class ModalBasis:
         Eigenvalues lambda = omega^2 [rad^2/s^2], all > 0 (a supported structure).
     damping : ndarray, shape (n_modes,)
         Modal damping ``c = Phi^T D Phi`` (diagonal) [1/s], e.g. ``a + b omega^2``.
-    B : ndarray, shape (m, n_modes)
+    B : ndarray, shape (m, n_modes), or CyclicRows
         Contact rows: ``u = B eta`` are the local relative displacements (n, t1, t2 of each
-        contact, stacked) [m per unit modal coordinate].
+        contact, stacked) [m per unit modal coordinate]; a :class:`CyclicRows` for a cyclic
+        wheel (products by harmonic).
     output : ndarray, shape (n_out, n_modes)
         Shapes at the output DOFs (probes) [m per unit modal coordinate].
     groups : tuple of (str, int)
@@ -83,7 +278,7 @@ class ModalBasis:
 
     omega2: np.ndarray
     damping: np.ndarray
-    B: np.ndarray
+    B: object
     output: np.ndarray
     groups: tuple = ()
 
@@ -96,20 +291,34 @@ class ModalBasis:
         c = np.broadcast_to(np.asarray(self.damping, dtype=float), (n,)).copy()
         if not np.all(np.isfinite(c)) or c.min() < 0:
             raise ModelError("damping must be finite modal damping values >= 0 1/s")
-        B = np.ascontiguousarray(np.asarray(self.B, dtype=float))
-        if B.ndim != 2 or B.shape[1] != n or B.shape[0] % 3:
-            raise ModelError(f"B must have shape (3 n_contacts, {n}), got {B.shape}")
+        if isinstance(self.B, CyclicRows):
+            rows = self.B
+            if rows.n != n:
+                raise ModelError(f"B (CyclicRows) has {rows.n} modal columns, omega2 {n}")
+        else:
+            B = np.ascontiguousarray(np.asarray(self.B, dtype=float))
+            if B.ndim != 2 or B.shape[1] != n or B.shape[0] % 3:
+                raise ModelError(f"B must have shape (3 n_contacts, {n}), got {B.shape}")
+            object.__setattr__(self, "B", B)
+            rows = _DenseRows(B)
+        if rows.m % 3:
+            raise ModelError(f"B must have 3 rows per contact, got {rows.m}")
         out = np.ascontiguousarray(np.asarray(self.output, dtype=float).reshape(-1, n))
         groups = tuple((str(a), int(b)) for a, b in (self.groups or (("contacts",
-                                                                       B.shape[0] // 3),)))
-        if sum(b for _, b in groups) * 3 != B.shape[0]:
-            raise ModelError(f"groups must count the {B.shape[0] // 3} contacts of B, got "
+                                                                       rows.m // 3),)))
+        if sum(b for _, b in groups) * 3 != rows.m:
+            raise ModelError(f"groups must count the {rows.m // 3} contacts of B, got "
                              f"{sum(b for _, b in groups)}")
         object.__setattr__(self, "omega2", lam)
         object.__setattr__(self, "damping", c)
-        object.__setattr__(self, "B", B)
         object.__setattr__(self, "output", out)
         object.__setattr__(self, "groups", groups)
+        object.__setattr__(self, "_rows", rows)
+
+    @property
+    def rows(self):
+        """The contact-row operator (``rows(eta)``, ``rows_T(f)``, ``compliance(s)``)."""
+        return self._rows
 
     @property
     def n_modes(self) -> int:
@@ -117,7 +326,7 @@ class ModalBasis:
 
     @property
     def n_contacts(self) -> int:
-        return self.B.shape[0] // 3
+        return self._rows.m // 3
 
 
 def contact_law_arrays(laws):
@@ -183,11 +392,13 @@ def _block_apply(K, x):
 
 
 def _newton_krylov_step(C, K, g, blocks, ap, tol):
-    """Solve ``(I + ap C K) du = g`` by GMRES, block-Jacobi preconditioned by patches."""
+    """Solve ``(I + ap C K) du = g`` by GMRES, block-Jacobi preconditioned by patches.
+
+    ``C`` is a compliance operator (``apply``, ``diagonal_block``)."""
     m = g.size
 
     def matvec(x):
-        return x + ap * (C @ _block_apply(K, x))
+        return x + ap * C.apply(_block_apply(K, x))
 
     inv_blocks = []
     for sl in blocks:
@@ -196,7 +407,7 @@ def _newton_krylov_step(C, K, g, blocks, ap, tol):
         nb = idx.size // 3
         for j in range(nb):
             Kb[3 * j:3 * j + 3, 3 * j:3 * j + 3] = K[sl.start // 3 + j]
-        Jb = np.eye(idx.size) + ap * (C[sl, sl] @ Kb)
+        Jb = np.eye(idx.size) + ap * (C.diagonal_block(sl) @ Kb)
         inv_blocks.append(sla.lu_factor(Jb, check_finite=False))
 
     def precond(x):
@@ -207,7 +418,7 @@ def _newton_krylov_step(C, K, g, blocks, ap, tol):
 
     A = spla.LinearOperator((m, m), matvec=matvec, dtype=float)
     P = spla.LinearOperator((m, m), matvec=precond, dtype=float)
-    du, info = spla.gmres(A, g, M=P, rtol=tol, atol=0.0, restart=60, maxiter=20)
+    du, info = spla.gmres(A, g, M=P, rtol=tol, atol=0.0, restart=80, maxiter=50)
     return du, info
 
 
@@ -240,9 +451,18 @@ class ModalStaticResult:
     residual: float
 
 
-def _static_compliance(basis: ModalBasis) -> np.ndarray:
-    B = basis.B
-    return np.ascontiguousarray((B / basis.omega2) @ B.T)
+#: Contact rows up to which the static Newton step is a dense solve (above: GMRES).
+DENSE_STATIC_MAX = 3000
+
+
+def _static_compliance(basis: ModalBasis):
+    """Compliance operator ``B diag(1/lambda) B^T``."""
+    with _blas1():
+        return basis.rows.compliance(1.0 / basis.omega2)
+
+
+def _as_compliance(C):
+    return _DenseCompliance(np.asarray(C)) if isinstance(C, np.ndarray) else C
 
 
 def solve_static_modal(basis: ModalBasis, laws, load=None, *, states=None,
@@ -260,10 +480,11 @@ def solve_static_modal(basis: ModalBasis, laws, load=None, *, states=None,
     states : tuple (w, s), optional
         Contact states to start from (default virgin); the contacts go to the solution in
         one return-map step (a proportional, monotonic load path).
-    compliance : ndarray, shape (m, m), optional
+    compliance : compliance operator or ndarray (m, m), optional
         ``B diag(1/lambda) B^T`` if already formed (re-used across calls).
     tol, max_iter
-        Convergence ``max |g| <= tol max(|u|, |u_lin|)``; Newton iterations.
+        Convergence ``max |g| <= tol max(|u|, |u_lin|)``; Newton iterations (dense steps
+        up to :data:`DENSE_STATIC_MAX` contact rows, block-preconditioned GMRES above).
 
     Raises
     ------
@@ -276,29 +497,31 @@ def solve_static_modal(basis: ModalBasis, laws, load=None, *, states=None,
         raise ModelError(f"load must be a finite modal vector of length {n}")
     con = _Contacts(laws, basis)
     w0, s0 = _states(laws, states, con.nc)
-    Cs = _static_compliance(basis) if compliance is None else compliance
+    Cs = _as_compliance(_static_compliance(basis) if compliance is None else compliance)
     eta_lin = F / basis.omega2
-    u_lin = basis.B @ eta_lin
+    u_lin = basis.rows.rows(eta_lin)
     u = u_lin.copy()
     zero = np.zeros_like(u)
-    eye = np.eye(u.size)
+    dense = hasattr(Cs, "C") and u.size <= DENSE_STATIC_MAX
     res = np.inf
     it = 0
     with _blas1():
         for it in range(max_iter + 1):  # noqa: B007
             f = con.evaluate(u, zero, w0, s0)
-            g = u - u_lin + Cs @ f
+            g = u - u_lin + Cs.apply(f)
             res = float(np.max(np.abs(g)))
             scale = max(float(np.max(np.abs(u))), float(np.max(np.abs(u_lin))), 1e-300)
             if res <= tol * scale:
                 break
-            J = eye + Cs @ _block_matrix(con.Ku)
-            du = np.linalg.solve(J, g)
+            if dense:
+                du = np.linalg.solve(np.eye(u.size) + Cs.C @ _block_matrix(con.Ku), g)
+            else:
+                du = _newton_krylov_step(Cs, con.Ku.copy(), g, con.blocks, 1.0, 1e-8)[0]
             step = 1.0
             for _ in range(30):
                 trial = u - step * du
                 ft = con.evaluate(trial, zero, w0, s0)
-                if np.max(np.abs(trial - u_lin + Cs @ ft)) < res or step < 1e-6:
+                if np.max(np.abs(trial - u_lin + Cs.apply(ft))) < res or step < 1e-6:
                     break
                 step *= 0.5
             u = u - step * du
@@ -306,7 +529,7 @@ def solve_static_modal(basis: ModalBasis, laws, load=None, *, states=None,
             raise ConvergenceError(f"static contact solution did not converge in {max_iter} "
                                    f"Newton iterations (residual {res:.3g} m)")
     f = con.evaluate(u, zero, w0, s0)
-    eta = eta_lin - (basis.B.T @ f) / basis.omega2
+    eta = eta_lin - basis.rows.rows_T(f) / basis.omega2
     return ModalStaticResult(eta=eta, u=u.reshape(-1, 3), f=f.reshape(-1, 3),
                              states=(con.w1.copy(), con.s1.copy()), status=con.code.copy(),
                              iterations=it, residual=res)
@@ -334,8 +557,9 @@ def _newmark(basis: ModalBasis, h: float, alpha: float):
 
 
 def transient_compliance(basis: ModalBasis, dt: float, *, method: str = "newmark",
-                         alpha: float = -0.05) -> np.ndarray:
-    """Condensed compliance ``C = B S^-1 B^T`` of the time step [m/N], shape (m, m).
+                         alpha: float = -0.05):
+    """Condensed compliance operator ``C = B S^-1 B^T`` of the time step [m/N] (m x m:
+    dense, or block-circulant for :class:`CyclicRows`).
 
     It depends on the modes, ``dt`` and the method only, not on the contacts: form it once
     and pass it to :func:`integrate_modal` for every run with the same step.
@@ -343,7 +567,7 @@ def transient_compliance(basis: ModalBasis, dt: float, *, method: str = "newmark
     a = 0.0 if method == "newmark" else float(alpha)
     with _blas1():
         s_inv = _newmark(basis, float(dt), a)[3]
-        return np.ascontiguousarray((basis.B * s_inv) @ basis.B.T)
+        return basis.rows.compliance(s_inv)
 
 
 @dataclass(frozen=True)
@@ -481,7 +705,7 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
             raise ModelError(f"{name} must be an integer >= 1, got {k!r}")
     save_every = int(save_every)
     contact_every = save_every if contact_every is None else int(contact_every)
-    n, m = basis.n_modes, basis.B.shape[0]
+    n, m = basis.n_modes, basis.rows.m
     eta = np.zeros(n) if eta0 is None else np.asarray(eta0, dtype=float).reshape(-1).copy()
     vel = np.zeros(n) if vel0 is None else np.asarray(vel0, dtype=float).reshape(-1).copy()
     Fm = np.zeros(n) if load is None else np.asarray(load, dtype=float).reshape(-1)
@@ -490,29 +714,25 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
             raise ModelError(f"{name} must be a finite vector of length {n}")
     con = _Contacts(laws, basis)
     w, s = _states(laws, states0, con.nc)
-    lam, cd, B, out = basis.omega2, basis.damping, basis.B, basis.output
+    lam, cd, rows, out = basis.omega2, basis.damping, basis.rows, basis.output
 
     tic = time.perf_counter()
     with _blas1():
         h = float(dt)
         (c0, c1, c2, c3, c4, c5), gamma, ap, s_inv = _newmark(basis, h, alpha)
-        if compliance is None:
-            C = np.ascontiguousarray((B * s_inv) @ B.T)
-        else:
-            C = np.asarray(compliance)
-            if C.shape != (m, m):
-                raise ModelError(f"compliance must have shape ({m}, {m}), got {C.shape}")
-        chord_lu = sla.lu_factor(np.eye(m) + ap * C * con.stick_diagonal()[None, :],
-                              check_finite=False)
-        u = B @ eta
-        uv = B @ vel
+        C = rows.compliance(s_inv) if compliance is None else _as_compliance(compliance)
+        if C.m != m:
+            raise ModelError(f"compliance must be m x m with m = {m} contact rows, got {C.m}")
+        chord_solve = C.chord(con.stick_diagonal(), ap)
+        u = rows.rows(eta)
+        uv = rows.rows(vel)
         f = con.evaluate(u, uv, w, s)
         code = con.code.copy()
         code[(code == 1) & (s == 1.0)] = 2   # a contact given as slipping stays "slip"
         w, s = con.w1.copy(), con.s1.copy()
-        BTf = B.T @ f
+        BTf = rows.rows_T(f)
         acc = Fm - cd * vel - lam * eta - BTf
-        ua = B @ acc
+        ua = rows.rows(acc)
     setup = time.perf_counter() - tic
 
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
@@ -558,7 +778,7 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
             b = (Fm + alpha * (cd * vel + lam * eta + BTf) + c0 * eta + c2 * vel + c3 * acc
                  + ap * cd * (c1 * eta - c4 * vel - c5 * acc))
             eta_lin = b * s_inv
-            u_lin = B @ eta_lin
+            u_lin = rows.rows(eta_lin)
             un = u.copy()
             use_chord = bool(chord)
             res_prev = np.inf
@@ -566,7 +786,7 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
             for _it in range(max_iter + 1):
                 vv = c1 * (un - u) + c4 * uv + c5 * ua
                 fnew = con.evaluate(un, vv, w, s)
-                Cf = C @ fnew
+                Cf = C.apply(fnew)
                 g = un - u_lin + ap * Cf
                 res = float(np.max(np.abs(g)))
                 scale = max(float(np.max(np.abs(un))), float(np.max(np.abs(u_lin))), 1e-300)
@@ -578,7 +798,7 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
                     use_chord = False
                 res_prev = res
                 if use_chord:
-                    un = un - sla.lu_solve(chord_lu, g, check_finite=False)
+                    un = un - chord_solve(g)
                     continue
                 n_kr += 1
                 du, _info = _newton_krylov_step(C, con.Ku + c1 * con.Kv, g, con.blocks, ap,
@@ -589,7 +809,7 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
                 message = (f"Newton did not converge at t = {t0 + step * h:.6g} s within "
                            f"{max_iter} iterations (residual {res:.3g} m); try a smaller dt")
                 break
-            BTf_new = B.T @ fnew
+            BTf_new = rows.rows_T(fnew)
             eta1 = eta_lin - ap * s_inv * BTf_new
             acc1 = c0 * (eta1 - eta) - c2 * vel - c3 * acc
             vel1 = vel + h * ((1.0 - gamma) * acc + gamma * acc1)
@@ -611,7 +831,7 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
             BTf = BTf_new
             w, s = con.w1.copy(), con.s1.copy()
             if step % 512 == 0:            # no drift of the contact-space Newmark recursion
-                uv, ua = B @ vel, B @ acc
+                uv, ua = rows.rows(vel), rows.rows(acc)
             k, kc = store(k, kc, t0 + step * h, step)
             if bar is not None:
                 bar.update(1)
