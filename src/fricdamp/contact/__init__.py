@@ -9,6 +9,7 @@ event-driven integration and the AFT step of harmonic balance.
 from fricdamp.contact.base import ContactLaw, LawStep
 from fricdamp.contact.coulomb import Coulomb, ForceSet, coulomb_force_set, friction_coefficient
 from fricdamp.contact.element3d import Contact3D
+from fricdamp.contact.iwan import Iwan
 from fricdamp.contact.jenkins import Jenkins
 from fricdamp.contact.mindlin import (
     CattaneoMindlin,
@@ -40,6 +41,7 @@ __all__ = [
     "ContactLaw",
     "Coulomb",
     "ForceSet",
+    "Iwan",
     "Jenkins",
     "LawStep",
     "coulomb_force_set",
