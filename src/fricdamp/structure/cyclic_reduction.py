@@ -211,9 +211,12 @@ class _ConstraintModes:
                 self.X[:, c] = Xc
             else:
                 MG[:, c] -= self.Kbi @ _solve(lu, Mib[:, c].toarray() + Mii @ Xc)
-        if self.X is not None:
-            for c in _blocks(n_b, n_i):
-                MG[:, c] += self.X.T @ (Mib[:, c].toarray() + Mii @ self.X[:, c])
+        if self.X is not None:  # MG = M_bb + P + P^T + X^T M_ii X, P = M_bi X (in MG now)
+            MG += MG.T - M[b][:, b].toarray()
+            G2 = np.zeros((n_b, n_b))
+            for c in _blocks(n_b, n_i):           # upper block triangle only: half the flops
+                G2[:c.stop, c] = self.X[:, :c.stop].T @ (Mii @ self.X[:, c])
+            MG += np.triu(G2) + np.triu(G2, 1).T
         self.KG, self.MG = _symmetric(KG), _symmetric(MG)
 
     def interior(self, C: np.ndarray) -> np.ndarray:
@@ -239,59 +242,78 @@ def _condense_groups(KG, MG, n_c: int):
     return _symmetric(Kc), _symmetric(Mc)
 
 
+def _rotate(A, Rb, left: bool, right: bool):
+    """``Rb^T A`` / ``A Rb`` / ``Rb^T A Rb`` for the sparse block rotation ``Rb``."""
+    if left:
+        A = np.asarray(Rb.T @ A)
+    if right:
+        A = np.asarray((Rb.T @ A.T).T)
+    return A
+
+
 def _junction(Kc, Mc, Rb, n_b):
+    """Junction Guyan matrices ``K_J, M_J`` and the cross blocks ``B = A_LR Rb``."""
     L, R = slice(0, n_b), slice(n_b, 2 * n_b)
-    KJ = Kc[L, L] + Rb.T @ Kc[R, R] @ Rb
-    MJ = Mc[L, L] + Rb.T @ Mc[R, R] @ Rb
-    return _symmetric(KJ), _symmetric(MJ)
+    KJ = Kc[L, L] + _rotate(Kc[R, R], Rb, True, True)
+    MJ = Mc[L, L] + _rotate(Mc[R, R], Rb, True, True)
+    return (_symmetric(KJ), _symmetric(MJ), _rotate(Kc[L, R], Rb, False, True),
+            _rotate(Mc[L, R], Rb, False, True))
 
 
-def _cyclic_interface_basis(Kc, Mc, Rb, MJ, n_sectors: int, n_im: int, tol: float):
+def _cyclic_interface_basis(KJ, MJ, BK, BM, n_sectors: int, n_im: int, tol: float):
     """Characteristic constraint modes of the wheel's interface, one real basis (docstring).
 
-    Returns ``V`` (n_b, n_im) with ``V^T M_J V = I``, and per column the eigenvalue
-    [(rad/s)^2] and nodal diameter of the interface mode it came from.
+    With ``T_nd = [I; e Rb]``, ``e = exp(i phi)``: ``T_nd^H A_c T_nd = A_J + e B + conj(e) B^T``
+    (``B = A_c,LR Rb``), formed in O(n_b^2) per nodal diameter. Returns ``V`` (n_b, n_im)
+    with ``V^T M_J V = I``, and per column the eigenvalue [(rad/s)^2] and nodal diameter of
+    the interface mode it came from.
     """
-    n_b = Rb.shape[0]
-    C = sla.cholesky(MJ, lower=False)                 # M_J = C^T C
-    p = min(n_b, max(n_im, 8))
+    n_b = KJ.shape[0]
+    C = sla.cholesky(MJ, lower=False)                 # M_J = C^T C: M_J-norms are 2-norms
+    p = min(n_b, max(n_im, 8))      # the O(n_b^3) reduction dominates: p costs little
     while True:
-        cands, bound = [], np.inf
+        lams, tags, Y, bound = [], [], [], np.inf
         for nd in range(n_sectors // 2 + 1):
-            T = np.vstack([np.eye(n_b), np.exp(2j * np.pi * nd / n_sectors) * Rb])
+            e = np.exp(2j * np.pi * nd / n_sectors)
             if (2 * nd) % n_sectors == 0:
-                T = T.real
-            TH = T.conj().T
+                e = e.real
             top = min(n_b, p + 1)
-            lam, X = sla.eigh(_symmetric(TH @ Kc @ T), _symmetric(TH @ Mc @ T),
+            lam, X = sla.eigh(_symmetric(KJ + e * BK + np.conj(e) * BK.T),
+                              _symmetric(MJ + e * BM + np.conj(e) * BM.T),
                               subset_by_index=[0, top - 1], check_finite=False)
-            if top > p:                       # the (p+1)-th bounds the exact stream
+            if top > p:                               # the (p+1)-th bounds the exact stream
                 bound = min(bound, lam[p])
                 lam, X = lam[:p], X[:, :p]
-            for k in range(lam.size):
-                parts = (X[:, k].real,) if not np.iscomplexobj(X) else (X[:, k].real,
-                                                                         X[:, k].imag)
-                cands.extend((lam[k], nd, k, part) for part in parts)
-        cands.sort(key=lambda c: (c[0], c[1], c[2]))
-        cands = [c for c in cands if c[0] <= bound]
-        Q, picked = np.zeros((n_b, 0)), []
+            CX = C @ X
+            parts = [CX.real] + ([CX.imag] if np.iscomplexobj(CX) else [])
+            for part_index, part in enumerate(parts):
+                lams.append(lam)
+                tags.append(np.column_stack([np.full(lam.size, nd), np.arange(lam.size),
+                                             np.full(lam.size, part_index)]))
+                Y.append(part)
+        lams, tags, Y = np.concatenate(lams), np.concatenate(tags), np.hstack(Y)
+        order = np.lexsort((tags[:, 2], tags[:, 1], tags[:, 0], lams))
+        order = order[lams[order] <= bound]
+        Q = np.empty((n_b, n_im))
+        picked, k = [], 0                             # candidate columns taken, count
         for threshold in (tol, 1e-10):
-            for lam, nd, _, v in cands:
-                if Q.shape[1] == n_im:
+            for j in order:
+                if k == n_im:
                     break
-                y = C @ v
+                y = Y[:, j]
                 size = np.linalg.norm(y)
                 for _ in range(2):                    # Gram-Schmidt, twice is enough
-                    y = y - Q @ (Q.T @ y)
-                if np.linalg.norm(y) > threshold * size:
-                    Q = np.column_stack([Q, y / np.linalg.norm(y)])
-                    picked.append((lam, nd))
-            if Q.shape[1] == n_im or p < n_b:         # second pass only on the full stream
+                    y = y - Q[:, :k] @ (Q[:, :k].T @ y)
+                norm = np.linalg.norm(y)
+                if norm > threshold * size:
+                    Q[:, k] = y / norm
+                    picked.append(j)
+                    k += 1
+            if k == n_im or p < n_b:                  # second pass only on the full stream
                 break
-        if Q.shape[1] == n_im:
+        if k == n_im:
             V = sla.solve_triangular(C, Q, lower=False)
-            lam_v, nd_v = (np.array(a) for a in zip(*picked, strict=True))
-            return V, lam_v, nd_v.astype(np.int64)
+            return V, lams[picked], tags[picked, 0].astype(np.int64)
         if p == n_b:  # pragma: no cover - the nd = 0 modes alone span the cut
             raise ModelError("interface_tolerance: the interface modes do not span "
                              f"{n_im} independent shapes")
@@ -522,20 +544,21 @@ def reduce_sector(sector: CyclicSector, *, keep: Mapping[str, Sequence[int]] | N
     t3 = time.perf_counter()
     timings["constraint_modes"] = t3 - t2
 
-    Rb = sector.interface_rotation().toarray()
+    Rb = sector.interface_rotation()
     Kc, Mc = _condense_groups(modes.KG, modes.MG, 2 * n_b)
-    KJ, MJ = _junction(Kc, Mc, Rb, n_b)
+    KJ, MJ, BK, BM = _junction(Kc, Mc, Rb, n_b)
+    del Kc, Mc
     try:
         if interface == "junction":
             lam_v, V = sla.eigh(KJ, MJ, subset_by_index=[0, n_im - 1], check_finite=False)
             nd_v = np.full(n_im, -1, dtype=np.int64)
         else:
-            V, lam_v, nd_v = _cyclic_interface_basis(Kc, Mc, Rb, MJ, sector.n_sectors, n_im,
+            V, lam_v, nd_v = _cyclic_interface_basis(KJ, MJ, BK, BM, sector.n_sectors, n_im,
                                                      float(interface_tolerance))
     except np.linalg.LinAlgError as exc:
         raise ModelError(f"sector: the cuts' Guyan mass is not positive definite ({exc})"
                          ) from None
-    RV = Rb @ V
+    RV = np.asarray(Rb @ V)
     t4 = time.perf_counter()
     timings["interface_modes"] = t4 - t3
 
@@ -607,8 +630,8 @@ class WheelModes:
     sector_shapes : tuple of ndarray, each shape (n_sector_dofs, n_modes_nd)
         Per entry of ``nds``: the sector shapes ``u~ = T_nd x`` [1/sqrt(kg)], complex
         (real for nd = 0, N/2), ``x^H T_nd^H M T_nd x = 1``. Sector ``j`` of the wheel
-        moves as ``Re/Im(exp(2 pi i nd j / N) u~)`` times ``sqrt(2/N)`` (cos/sin) or
-        ``exp(i pi nd j / ...)``-sign times ``1/sqrt(N)`` (real).
+        moves as ``Re/Im(exp(2 pi i nd j / N) u~)`` times ``sqrt(2/N)`` (cos/sin) or as
+        ``(+1)^j u~`` (nd = 0), ``(-1)^j u~`` (nd = N/2) times ``1/sqrt(N)`` (real).
 
     Notes
     -----
