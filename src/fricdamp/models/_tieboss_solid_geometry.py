@@ -108,7 +108,7 @@ def check_clearance(p) -> None:
         "boss_width_m/boss_thickness_m": (p.tieboss_radius_m - p.boss_radial_m / 2,
                                           p.tieboss_radius_m + p.boss_radial_m / 2,
                                           p.boss_width_m, p.boss_thickness_m),
-        "tipmass_thickness_m": (p.tip_radius_m, p.tip_radius_m + p.tipmass_length_m,
+        "tipmass_thickness_m": (p.tip_radius_m - p.tipmass_length_m, p.tip_radius_m,
                                 p.blade_width_m, p.tipmass_thickness_m),
     }
     for names, (x0, x1, w, t) in parts.items():
@@ -235,7 +235,7 @@ def _build(gmsh, p) -> dict:
     boss = blade_box(p.tieboss_radius_m - p.boss_radial_m / 2,
                      p.tieboss_radius_m + p.boss_radial_m / 2, p.boss_width_m,
                      p.boss_thickness_m)
-    tipmass = blade_box(p.tip_radius_m, p.tip_radius_m + p.tipmass_length_m, p.blade_width_m,
+    weights = blade_box(p.tip_radius_m - p.tipmass_length_m, p.tip_radius_m, p.blade_width_m,
                         p.tipmass_thickness_m)
     # shoulders: oblique prisms from each contact face to the centre of the boss
     g = contact_geometry(p)
@@ -254,6 +254,8 @@ def _build(gmsh, p) -> dict:
         face = square(cen, frame)
         shoulders += [dt for dt in occ.extrude([(2, face)], *(target - cen)) if dt[0] == 3]
     steel, _ = occ.fuse(disk, [root, blade, boss, *shoulders])
+    # tip mass: the weights bolted on both faces of the blade end (the block less the blade)
+    tipmass, _ = occ.cut([weights], steel, removeObject=True, removeTool=False)
     if len(steel) != 1:
         raise ModelError(f"the steel parts did not fuse into one volume ({len(steel)} "
                          "volumes): check that root, blade, boss and shoulders touch")
@@ -263,12 +265,13 @@ def _build(gmsh, p) -> dict:
               "load_a": target + 0.5 * p.boss_thickness_m * d,
               "load_b": target - 0.5 * p.boss_thickness_m * d}
     ptags = {k: occ.addPoint(*v) for k, v in points.items()}
-    _, omap = occ.fragment([*steel, tipmass], [(0, t) for t in ptags.values()])
+    _, omap = occ.fragment([*steel, *tipmass], [(0, t) for t in ptags.values()])
     occ.synchronize()
     steel_v = [t for dim, t in omap[0] if dim == 3]
-    tip_v = [t for dim, t in omap[1] if dim == 3]
-    pt_out = {k: [t for dim, t in omap[2 + i] if dim == 0] for i, k in enumerate(ptags)}
-    if len(steel_v) != 1 or len(tip_v) != 1 or any(len(v) != 1 for v in pt_out.values()):
+    tip_v = [t for m in omap[1:1 + len(tipmass)] for dim, t in m if dim == 3]
+    pt_out = {k: [t for dim, t in omap[1 + len(tipmass) + i] if dim == 0]
+              for i, k in enumerate(ptags)}
+    if len(steel_v) != 1 or not tip_v or any(len(v) != 1 for v in pt_out.values()):
         raise ModelError("gmsh fragment gave an unexpected topology (steel "
                          f"{steel_v}, tip mass {tip_v}, points {pt_out})")
 

@@ -32,10 +32,11 @@ Geometry (SI; wheel axis z; sector 0 centred on +x; ``alpha = 2 pi / N``, ``h = 
   is sector j+1's left face. Each shoulder is the oblique prism swept from its face to the
   centre of the boss (nearly along ``-/+ e_t``, like the suspension bolt of 003); its end
   face is cut by the cutting plane "at a certain angle" (003 section 1.1).
-* **tip mass**: a block ``tipmass_length_m`` (radial) x ``blade_width_m`` x
-  ``tipmass_thickness_m`` (along d) beyond the blade tip, its own volume ``tipmass`` of
-  density ``tipmass_density_kg_m3`` (the bolted weights of 003; the density is a tuning
-  knob standing for their mass, 0.42 kg as the beam model's ``tip_mass_kg``).
+* **tip mass**: the weights bolted on both faces of the blade end (003 section 1.1): the
+  block ``tipmass_length_m`` (radial, ending at ``tip_radius_m``) x ``blade_width_m`` x
+  ``tipmass_thickness_m`` (along d) less the blade, its own volume ``tipmass`` of density
+  ``tipmass_density_kg_m3`` (a tuning knob standing for their mass, ~0.42 kg as the beam
+  model's ``tip_mass_kg``; its centre of mass is ``tipmass_length_m / 2`` inside the tip).
 
 Every part beyond the rim lies between the sector's two cutting planes
 (:func:`~fricdamp.models._tieboss_solid_geometry.check_clearance`), so neighbours never
@@ -60,21 +61,32 @@ import functools
 import logging
 import os
 import tempfile
-from dataclasses import asdict, dataclass, replace
+import time
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
 from fricdamp.errors import ModelError, check_positive, check_range
 from fricdamp.models._tieboss_solid_geometry import (
+    blade_axes,
     contact_geometry,
     mesh_sector_msh,
     rotation_z,
 )
+from fricdamp.models.contact_wheel import WheelSector, rayleigh_coefficients, sector_from_solid
+from fricdamp.models.tieboss_wheel import TABLE1_FEM_HZ, table1_targets
+from fricdamp.structure.cyclic import CyclicSector, nodal_diameter_modes
 
 __all__ = [
+    "TABLE1_FEM_HZ",
+    "SolidSector",
     "SolidWheelParameters",
+    "assemble_sector_model",
     "build_sector_mesh",
+    "build_solid_sector",
+    "first_family_frequencies",
     "match_periodic_nodes",
+    "tune_solid_parameters",
 ]
 
 log = logging.getLogger(__name__)
@@ -113,12 +125,16 @@ class SolidWheelParameters:
     contact_face_size_m : float
         Side of the square contact faces [m].
     tipmass_length_m, tipmass_thickness_m : float
-        Tip-mass block: radial length and size along the flexural direction [m] (its
-        chord is the blade's).
+        Tip-mass block around the blade end: radial length and size along the flexural
+        direction [m] (> blade thickness; its chord is the blade's).
     tipmass_density_kg_m3 : float
         Density of the tip-mass block [kg/m^3] (sets its mass).
     young_modulus_Pa, poisson_ratio, density_kg_m3 : float
         Steel (also the tip-mass stiffness).
+    damping_ratio : float
+        Material damping ratio [-] (003: 0.1 %), Rayleigh, equal at ``damping_band_hz``.
+    damping_band_hz : (float, float)
+        The two frequencies [Hz] of the Rayleigh damping, ``0 < f1 < f2``.
     mesh_size_m : float
         Largest element edge [m], in [1.5 mm, 30 mm].
     contact_divisions : int
@@ -127,9 +143,9 @@ class SolidWheelParameters:
     """
 
     n_blades: int = 30
-    clamp_radius_m: float = 0.10
+    clamp_radius_m: float = 0.1588
     rim_radius_m: float = 0.28
-    disk_thickness_m: float = 0.010
+    disk_thickness_m: float = 0.01017
     root_radius_m: float = 0.30
     root_width_m: float = 0.040
     root_thickness_m: float = 0.014
@@ -145,11 +161,13 @@ class SolidWheelParameters:
     boss_thickness_m: float = 0.016
     contact_face_size_m: float = 0.010
     tipmass_length_m: float = 0.016
-    tipmass_thickness_m: float = 0.030
-    tipmass_density_kg_m3: float = 21900.0
+    tipmass_thickness_m: float = 0.036
+    tipmass_density_kg_m3: float = 24250.0
     young_modulus_Pa: float = 2.1e11
     poisson_ratio: float = 0.3
     density_kg_m3: float = 7850.0
+    damping_ratio: float = 1.0e-3
+    damping_band_hz: tuple[float, float] = (40.0, 60.0)
     mesh_size_m: float = 0.006
     contact_divisions: int = 3
 
@@ -185,11 +203,24 @@ class SolidWheelParameters:
                  "boss_radial_m": (self.boss_radial_m, 2.0 * min(
                      self.tieboss_radius_m - self.root_radius_m,
                      self.tip_radius_m - self.tieboss_radius_m)),
-                 "contact_face_size_m": (self.contact_face_size_m, self.boss_radial_m)}
+                 "contact_face_size_m": (self.contact_face_size_m, self.boss_radial_m),
+                 "tipmass_length_m": (self.tipmass_length_m,
+                                      self.tip_radius_m - self.tieboss_radius_m
+                                      - self.boss_radial_m / 2)}
         for name, (value, high) in spans.items():
             check_range(name, value, 0.0, high, unit="m", low_open=True, high_open=True)
+        if self.tipmass_thickness_m <= self.blade_thickness_m:
+            raise ModelError(f"tipmass_thickness_m must be > blade_thickness_m = "
+                             f"{self.blade_thickness_m} m, got {self.tipmass_thickness_m}")
         object.__setattr__(self, "mesh_size_m", float(check_range(
             "mesh_size_m", self.mesh_size_m, 0.0015, 0.030, unit="m")))
+        object.__setattr__(self, "damping_ratio", float(check_range(
+            "damping_ratio", self.damping_ratio, 0.0, 1.0, high_open=True)))
+        band = tuple(float(v) for v in np.ravel(self.damping_band_hz))
+        if len(band) != 2 or not 0.0 < band[0] < band[1] or not np.isfinite(band[1]):
+            raise ModelError(f"damping_band_hz must be two frequencies 0 < f1 < f2 [Hz], got "
+                             f"{self.damping_band_hz!r}")
+        object.__setattr__(self, "damping_band_hz", band)
         k = self.contact_divisions
         if isinstance(k, bool) or int(k) != k or not 2 <= k <= 8:
             raise ModelError(f"contact_divisions must be an integer in [2, 8], got {k!r}")
@@ -208,8 +239,9 @@ class SolidWheelParameters:
 
     @property
     def tipmass_volume_m3(self) -> float:
-        """Volume of the tip-mass block [m^3]."""
-        return self.tipmass_length_m * self.blade_width_m * self.tipmass_thickness_m
+        """Volume of the tip-mass block less the blade [m^3]."""
+        return self.tipmass_length_m * self.blade_width_m * (self.tipmass_thickness_m
+                                                              - self.blade_thickness_m)
 
     @property
     def tipmass_kg(self) -> float:
@@ -222,7 +254,9 @@ class SolidWheelParameters:
 
     def to_dict(self) -> dict:
         """Plain dict (JSON-ready) of all parameters."""
-        return asdict(self)
+        d = asdict(self)
+        d["damping_band_hz"] = list(self.damping_band_hz)
+        return d
 
     def geometry_key(self) -> SolidWheelParameters:
         """The parameters that set the mesh (material entries reset to the defaults)."""
@@ -231,7 +265,7 @@ class SolidWheelParameters:
 
 
 _MATERIAL_FIELDS = ("tipmass_density_kg_m3", "young_modulus_Pa", "poisson_ratio",
-                    "density_kg_m3")
+                    "density_kg_m3", "damping_ratio", "damping_band_hz")
 
 
 # ------------------------------------------------------------------------------ mesh
@@ -345,3 +379,252 @@ def contact_centres(params: SolidWheelParameters | None = None):
     """Centres [m] of the right and left contact faces of sector 0, shapes (3,)."""
     g = contact_geometry(SolidWheelParameters() if params is None else params)
     return g.centre_right, g.centre_left
+
+
+# ------------------------------------------------------------------------------ model
+def assemble_sector_model(params: SolidWheelParameters | None = None, *,
+                          split_by_set: bool = True):
+    """Mesh and assemble the sector (no supports): a :class:`~fricdamp.structure.solid.
+    SolidModel` with steel everywhere but the ``tipmass`` volume.
+
+    With ``split_by_set`` the model keeps the parts ``"rest"`` (steel) and ``"tipmass"``
+    so that a new tip-mass density costs a sum of matrices
+    (:meth:`~fricdamp.structure.solid.SolidModel.with_scaled_parts`), not an assembly.
+    """
+    from fricdamp.structure.solid import assemble_solid, mesh_from_meshio
+
+    p = SolidWheelParameters() if params is None else params
+    mesh = mesh_from_meshio(build_sector_mesh(p))
+    return assemble_solid(mesh, youngs_modulus=p.young_modulus_Pa,
+                          poisson_ratio=p.poisson_ratio, density=p.density_kg_m3,
+                          materials={"tipmass": {"density": p.tipmass_density_kg_m3}},
+                          split_by_set=split_by_set)
+
+
+@dataclass(frozen=True, eq=False)
+class SolidSector:
+    """One solid sector of the tie-boss wheel, clamped, ready for the cyclic pipeline.
+
+    Attributes
+    ----------
+    model : SolidModel
+        The assembled sector without supports (all FE nodes, mid-side nodes included).
+    cyclic : CyclicSector
+        Clamped sector: ``n_dof = 3 (n_nodes - n_clamped)``, Cartesian frames about z, cuts
+        ordered so that ``right[k]`` is ``left[k]`` rotated by ``+alpha``. Named DOF
+        groups (x, y, z triples, reduced numbering): ``contact_left``, ``contact_right``
+        (pair k of the right face is node k of both lists), ``probe``, ``probe_left``,
+        ``load`` (2 nodes) and ``tip``.
+    wheel_sector : WheelSector
+        The same sector with its contact patch and Rayleigh damping, for
+        :func:`fricdamp.models.contact_wheel.build_contact_wheel`.
+    parameters : SolidWheelParameters
+    kept_dofs : ndarray of int, shape (cyclic.n_dof,)
+        DOF of ``model`` of each reduced DOF (``reduced -> model``).
+    frame : ndarray, shape (3, 3)
+        Rows ``(n, t1, t2)`` of the right contact face (n into the next sector).
+    flexural_direction : ndarray, shape (3,)
+        Unit normal of blade 0's plane (the direction of the first-family motion).
+    timings : dict of str to float
+        Seconds spent meshing (0 when cached) and assembling.
+    """
+
+    model: object
+    cyclic: CyclicSector
+    wheel_sector: WheelSector
+    parameters: SolidWheelParameters
+    kept_dofs: np.ndarray
+    frame: np.ndarray
+    flexural_direction: np.ndarray
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def n_dof(self) -> int:
+        """DOFs of the clamped sector."""
+        return self.cyclic.n_dof
+
+    def group_nodes(self, name: str) -> np.ndarray:
+        """FE nodes (of :attr:`model`) of a named DOF group, in the group's triple order."""
+        if name not in self.cyclic.named_dofs:
+            raise ModelError(f"unknown group {name!r}; the sector has "
+                             f"{sorted(self.cyclic.named_dofs)}")
+        return self.kept_dofs[self.cyclic.named_dofs[name][0::3]] // 3
+
+    def group_points(self, name: str) -> np.ndarray:
+        """Coordinates [m] of the nodes of a named DOF group, shape (n, 3)."""
+        return self.model.points[self.group_nodes(name)]
+
+    def contact_facets(self, side: str = "right") -> np.ndarray:
+        """tri6 facets (FE nodes of :attr:`model`, outward) of a contact face, (n, 6)."""
+        if side not in ("left", "right"):
+            raise ModelError(f"side must be 'left' or 'right', got {side!r}")
+        return self.model.surface_facets(f"contact_{side}")
+
+
+def _solid_sector(p: SolidWheelParameters, model, timings: dict) -> SolidSector:
+    n_nodes = model.n_nodes
+    fixed = np.zeros(n_nodes, dtype=bool)
+    fixed[model.node_sets["clamp"]] = True
+    kept = np.sort(model.dofs[~fixed].ravel())
+    _, d = blade_axes(p.blade_angle_deg)
+    g = contact_geometry(p)
+    info = {"tetrahedra": int(model.n_elements), "mesh_size_m": p.mesh_size_m,
+            "contact_nodes_per_face": int(model.node_sets["contact_right"].size)}
+    ws = sector_from_solid(model, n_sectors=p.n_blades, youngs_modulus=p.young_modulus_Pa,
+                           probe_direction=d,
+                           rayleigh=rayleigh_coefficients(p.damping_ratio, p.damping_band_hz),
+                           info=info)
+    if ws.cyclic.n_dof != kept.size:
+        raise ModelError(f"internal: {ws.cyclic.n_dof} sector DOFs, expected {kept.size}")
+    pos = np.full(model.n_dof, -1, dtype=np.int64)
+    pos[kept] = np.arange(kept.size)
+    named = dict(ws.cyclic.named_dofs)
+    for name in ("tip", "probe_left"):
+        named[name] = pos[model.dofs[model.node_sets[name]].ravel()]
+    cyc = replace(ws.cyclic, named_dofs=named, name="solid tie-boss sector")
+    return SolidSector(model=model, cyclic=cyc, wheel_sector=replace(ws, cyclic=cyc),
+                       parameters=p, kept_dofs=kept, frame=g.frame_right,
+                       flexural_direction=d, timings=dict(timings))
+
+
+def build_solid_sector(params: SolidWheelParameters | None = None) -> SolidSector:
+    """Mesh, assemble and clamp the solid tie-boss sector (module docstring).
+
+    Parameters
+    ----------
+    params : SolidWheelParameters, optional
+        Default: the tuned defaults.
+
+    Returns
+    -------
+    SolidSector
+
+    Raises
+    ------
+    ModelError
+        Invalid geometry, meshing failure or non-periodic faces.
+    """
+    p = SolidWheelParameters() if params is None else params
+    if not isinstance(p, SolidWheelParameters):
+        raise ModelError(f"params must be SolidWheelParameters, got {type(p).__name__}")
+    t0 = time.perf_counter()
+    cached = _mesh_cached.cache_info().hits
+    build_sector_mesh(p)
+    t_mesh = 0.0 if _mesh_cached.cache_info().hits > cached else time.perf_counter() - t0
+    t1 = time.perf_counter()
+    model = assemble_sector_model(p)
+    timings = {"mesh_s": t_mesh, "assembly_s": time.perf_counter() - t1}
+    return _solid_sector(p, model, timings)
+
+
+def first_family_frequencies(sector: SolidSector, nds=(2, 3, 4, 5, 6, 15), *,
+                             timings: dict | None = None) -> dict[int, float]:
+    """First eigenfrequency [Hz] of each nodal diameter, open contacts.
+
+    The lowest mode of each ND is the first (blade flexural) family: cyclic modal
+    analysis of the clamped sector (:func:`~fricdamp.structure.cyclic.nodal_diameter_modes`,
+    sparse shift-invert). ``timings``, if given, receives the seconds per ND.
+    """
+    out = {}
+    for nd in nds:
+        t0 = time.perf_counter()
+        out[int(nd)] = float(nodal_diameter_modes(sector.cyclic, int(nd), 1,
+                                                  method="sparse").frequencies[0])
+        if timings is not None:
+            timings[int(nd)] = time.perf_counter() - t0
+    return out
+
+
+# ------------------------------------------------------------------------------ tuning
+_DENSITY_ONLY = ("tipmass_density_kg_m3",)
+
+
+def tune_solid_parameters(params: SolidWheelParameters | None = None, *,
+                          names=("disk_thickness_m", "clamp_radius_m",
+                                 "tipmass_density_kg_m3"),
+                          targets: dict[int, float] | None = None, bounds=None,
+                          max_evaluations: int = 40,
+                          diff_step: float = 0.02) -> tuple[SolidWheelParameters, dict]:
+    """Tune geometry and tip-mass density so the first family matches Table 1.
+
+    Least squares (``scipy.optimize.least_squares``, trust region, bounded) on the relative
+    errors ``f(nd) / f_target(nd) - 1`` of :func:`first_family_frequencies`, in the
+    variables ``1 + log(p / p_start)`` (so the step is a relative change of p). A change
+    of the tip-mass density alone re-uses the assembled parts
+    (``SolidModel.with_scaled_parts``); a geometric change re-meshes, so the frequencies
+    carry a small remeshing noise (~0.05 %): the relative finite-difference step
+    ``diff_step`` is kept well above it.
+
+    Parameters
+    ----------
+    params : SolidWheelParameters, optional
+        Start values (default: the defaults).
+    names : sequence of str
+        Float parameters tuned.
+    targets : dict nd -> Hz, optional
+        Default :func:`fricdamp.models.tieboss_wheel.table1_targets` (pair means of the FEM
+        column of Table 1 at 2-6 ND, 50.3 Hz at 15 ND).
+    bounds : (sequence, sequence), optional
+        Lower and upper bounds (default: a factor 2 around the start values).
+    max_evaluations : int
+        Budget of frequency evaluations (each: one sector, ``len(targets)`` eigen-solves).
+    diff_step : float
+        Relative finite-difference step.
+
+    Returns
+    -------
+    params : SolidWheelParameters
+    report : dict
+        ``nd``, ``target_hz``, ``model_hz``, ``relative_error``, ``tuned`` and
+        ``evaluations``.
+    """
+    from scipy.optimize import least_squares
+
+    p0 = SolidWheelParameters() if params is None else params
+    tg = table1_targets() if targets is None else {int(k): float(v)
+                                                   for k, v in targets.items()}
+    nds = sorted(tg)
+    if max(nds) > p0.n_blades // 2:
+        raise ModelError(f"targets hold nd = {max(nds)} > N/2 = {p0.n_blades // 2}")
+    names = tuple(names)
+    for nm in names:
+        if nm not in SolidWheelParameters.__dataclass_fields__ or not isinstance(
+                getattr(p0, nm), float):
+            raise ModelError(f"cannot tune {nm!r}: not a float parameter")
+    start = np.array([getattr(p0, nm) for nm in names])
+    lo, hi = (np.full(len(names), 1.0 - np.log(2.0)), np.full(len(names), 1.0 + np.log(2.0))) \
+        if bounds is None else (1.0 + np.log(np.asarray(bounds[0], float) / start),
+                                1.0 + np.log(np.asarray(bounds[1], float) / start))
+    ft = np.array([tg[nd] for nd in nds])
+    state = {"key": None, "model": None, "n": 0}
+
+    def make(x):
+        return p0.with_(**dict(zip(names, (float(v) for v in start * np.exp(x - 1.0)),
+                                   strict=True)))
+
+    def frequencies(p):
+        if state["key"] != p.geometry_key():
+            state["key"] = p.geometry_key()
+            state["model"] = assemble_sector_model(p)
+            state["rho"] = p.tipmass_density_kg_m3
+        model = state["model"].with_scaled_parts(
+            mass={"tipmass": p.tipmass_density_kg_m3 / state["rho"]})
+        state["n"] += 1
+        f = first_family_frequencies(_solid_sector(p, model, {}), nds)
+        res = np.array([f[nd] for nd in nds])
+        log.info("tune %d: %s -> %s Hz", state["n"],
+                 {nm: round(getattr(p, nm), 6) for nm in names}, np.round(res, 3).tolist())
+        return res
+
+    def residual(x):
+        return frequencies(make(x)) / ft - 1.0
+
+    sol = least_squares(residual, np.clip(np.ones(len(names)), lo, hi), bounds=(lo, hi),
+                        diff_step=diff_step, x_scale=1.0, max_nfev=int(max_evaluations))
+    tuned = make(sol.x)
+    fm = frequencies(tuned)
+    report = {"nd": nds, "target_hz": ft.tolist(), "model_hz": fm.tolist(),
+              "relative_error": (fm / ft - 1.0).tolist(),
+              "tuned": {nm: getattr(tuned, nm) for nm in names},
+              "tipmass_kg": tuned.tipmass_kg, "evaluations": state["n"]}
+    return tuned, report
