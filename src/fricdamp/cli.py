@@ -80,8 +80,8 @@ def _parser() -> argparse.ArgumentParser:
     d.set_defaults(func=_cmd_demo)
 
     # design studies (fricdamp sweep / optimize) and measurement post-processing
-    # (fricdamp identify) live in their own modules
-    for name in ("cli_studies", "cli_identify"):
+    # (fricdamp identify, fricdamp fit) live in their own modules
+    for name in ("cli_studies", "cli_identify", "cli_fit"):
         if importlib.util.find_spec(f"fricdamp.{name}") is not None:
             importlib.import_module(f"fricdamp.{name}").add_subparsers(sub)
     return p

@@ -17,7 +17,7 @@ import numpy as np
 
 from fricdamp.errors import ModelError, as_finite_array
 
-__all__ = ["SignalTable", "fft_integrate", "read_signals_csv", "uniform_time"]
+__all__ = ["SignalTable", "fft_integrate", "read_signals_csv", "read_table_csv", "uniform_time"]
 
 
 def fft_integrate(x, dt: float, order: int = 1, *, f_low: float | None = None,
@@ -317,6 +317,104 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
         not strictly increasing or a sample index (without ``sample_rate``).
     """
     p = Path(path)
+    names, units, data, body = _parse_csv(p, delimiter, decimal, skip_rows)
+
+    if sample_rate is not None:
+        return _table_at_rate(p, data, names, units, time_column, sample_rate)
+    if time_column is None:
+        tname = next((nm for nm in names if nm.lower() in _TIME_NAMES), names[0])
+        if tname.lower() not in _TIME_NAMES and _is_index(tname, units[0], data[tname]):
+            raise ModelError(f"{str(p)!r}: column {tname!r} is a sample index, not a time: "
+                             "give the sample rate (sample_rate, --sample-rate) or name the "
+                             "time column (time_column, --time-column)")
+    elif isinstance(time_column, (int, np.integer)):
+        if not 0 <= time_column < len(names):
+            raise ModelError(f"{str(p)!r}: time_column index {time_column} out of range "
+                             f"[0, {len(names)})")
+        tname = names[int(time_column)]
+    else:
+        if time_column not in data:
+            raise ModelError(f"{str(p)!r}: no column named {time_column!r}; columns are "
+                             f"{names}")
+        tname = time_column
+    tunit = units[names.index(tname)] if time_unit is None else str(time_unit)
+    if time_scale is None:
+        key = tunit.strip().lower()
+        if key not in _TIME_SCALE:
+            raise ModelError(f"{str(p)!r}: time column {tname!r} has unit {tunit!r}; known "
+                             f"units are s, ms, us, ns, min (or pass time_unit, time_scale "
+                             "or the sample rate)")
+        time_scale = _TIME_SCALE[key]
+    time_scale = float(as_finite_array("time_scale", time_scale))
+    if time_scale <= 0:
+        raise ModelError(f"time_scale must be > 0, got {time_scale!r}")
+    tvals = data.pop(tname) * time_scale
+    dt = np.diff(tvals)
+    if np.any(dt <= 0):
+        i = int(np.flatnonzero(dt <= 0)[0])
+        raise ModelError(f"{str(p)!r}, column {tname!r}: time must be strictly increasing, "
+                         f"but line {body[i + 1][0]} has {tvals[i + 1]!r} after {tvals[i]!r}")
+    if "time" in data:
+        raise ModelError(f"{str(p)!r}: column 'time' is not the time column {tname!r}; "
+                         "rename it or pass time_column='time'")
+    out = {"time": tvals, **data}
+    unit_map = {"time": "s"}
+    unit_map.update({nm: units[j] for j, nm in enumerate(names) if nm != tname})
+    return SignalTable(out, units=unit_map, path=p, time_column=tname)
+
+
+_INDEX_NAMES = {"sample", "samples", "index", "idx", "n", "no", "no.", "nr", "#", "count",
+                "point", "points", "sample number", "sample_number", "sample no", "sample_no",
+                "sample index", "sample_index"}
+
+
+def _is_index(name: str, unit: str, values: np.ndarray) -> bool:
+    """A column of sample numbers: an index name, or consecutive integers without a unit."""
+    if name.strip().lower() in _INDEX_NAMES:
+        return True
+    if unit.strip() or values.size < 2:
+        return False
+    return bool(np.all(values == np.round(values)) and np.all(np.diff(values) == 1.0))
+
+
+def _table_at_rate(p: Path, data: dict, names: list, units: list, time_column,
+                   sample_rate) -> SignalTable:
+    """The table with ``time = k / sample_rate``; index and time columns left out."""
+    rate = float(as_finite_array("sample_rate", sample_rate, ndim=0))
+    if rate <= 0:
+        raise ModelError(f"sample_rate must be > 0 Hz, got {sample_rate!r}")
+    drop = set()
+    if time_column is not None:
+        if isinstance(time_column, (int, np.integer)):
+            if not 0 <= time_column < len(names):
+                raise ModelError(f"{str(p)!r}: time_column index {time_column} out of range "
+                                 f"[0, {len(names)})")
+            drop.add(names[int(time_column)])
+        elif time_column not in data:
+            raise ModelError(f"{str(p)!r}: no column named {time_column!r}; columns are "
+                             f"{names}")
+        else:
+            drop.add(time_column)
+    drop.update(nm for nm in names if nm.lower() in _TIME_NAMES)
+    if _is_index(names[0], units[0], data[names[0]]):
+        drop.add(names[0])
+    if "time" in data and "time" not in drop:  # pragma: no cover - 'time' is a time name
+        drop.add("time")
+    n = next(iter(data.values())).size
+    out = {"time": np.arange(n) / rate}
+    unit_map = {"time": "s"}
+    for j, nm in enumerate(names):
+        if nm not in drop:
+            out[nm] = data[nm]
+            unit_map[nm] = units[j]
+    if len(out) == 1:
+        raise ModelError(f"{str(p)!r}: no signal columns left besides time and index")
+    return SignalTable(out, units=unit_map, path=p, time_column=f"<{rate:g} Hz>")
+
+
+def _parse_csv(path, delimiter, decimal, skip_rows):
+    """Columns of a delimited text table: ``(names, units, data, body lines)``."""
+    p = Path(path)
     if not p.is_file():
         raise ModelError(f"signal file {str(p)!r} does not exist")
     raw = p.read_bytes()
@@ -401,95 +499,28 @@ def read_signals_csv(path, *, time_column: str | int | None = None,
             raise ModelError(f"{str(p)!r}, line {body[bad][0]}, column {name!r}: "
                              f"non-finite value {table[bad, j]!r}")
         data[name] = values
-
-    if sample_rate is not None:
-        return _table_at_rate(p, data, names, units, time_column, sample_rate)
-    if time_column is None:
-        tname = next((nm for nm in names if nm.lower() in _TIME_NAMES), names[0])
-        if tname.lower() not in _TIME_NAMES and _is_index(tname, units[0], data[tname]):
-            raise ModelError(f"{str(p)!r}: column {tname!r} is a sample index, not a time: "
-                             "give the sample rate (sample_rate, --sample-rate) or name the "
-                             "time column (time_column, --time-column)")
-    elif isinstance(time_column, (int, np.integer)):
-        if not 0 <= time_column < ncol:
-            raise ModelError(f"{str(p)!r}: time_column index {time_column} out of range "
-                             f"[0, {ncol})")
-        tname = names[int(time_column)]
-    else:
-        if time_column not in data:
-            raise ModelError(f"{str(p)!r}: no column named {time_column!r}; columns are "
-                             f"{names}")
-        tname = time_column
-    tunit = units[names.index(tname)] if time_unit is None else str(time_unit)
-    if time_scale is None:
-        key = tunit.strip().lower()
-        if key not in _TIME_SCALE:
-            raise ModelError(f"{str(p)!r}: time column {tname!r} has unit {tunit!r}; known "
-                             f"units are s, ms, us, ns, min (or pass time_unit, time_scale "
-                             "or the sample rate)")
-        time_scale = _TIME_SCALE[key]
-    time_scale = float(as_finite_array("time_scale", time_scale))
-    if time_scale <= 0:
-        raise ModelError(f"time_scale must be > 0, got {time_scale!r}")
-    tvals = data.pop(tname) * time_scale
-    dt = np.diff(tvals)
-    if np.any(dt <= 0):
-        i = int(np.flatnonzero(dt <= 0)[0])
-        raise ModelError(f"{str(p)!r}, column {tname!r}: time must be strictly increasing, "
-                         f"but line {body[i + 1][0]} has {tvals[i + 1]!r} after {tvals[i]!r}")
-    if "time" in data:
-        raise ModelError(f"{str(p)!r}: column 'time' is not the time column {tname!r}; "
-                         "rename it or pass time_column='time'")
-    out = {"time": tvals, **data}
-    unit_map = {"time": "s"}
-    unit_map.update({nm: units[j] for j, nm in enumerate(names) if nm != tname})
-    return SignalTable(out, units=unit_map, path=p, time_column=tname)
+    return names, units, data, body
 
 
-_INDEX_NAMES = {"sample", "samples", "index", "idx", "n", "no", "no.", "nr", "#", "count",
-                "point", "points", "sample number", "sample_number", "sample no", "sample_no",
-                "sample index", "sample_index"}
+def read_table_csv(path, *, delimiter: str | None = None, decimal: str | None = None,
+                   skip_rows: int = 0) -> SignalTable:
+    """Every column of a delimited text table, without choosing a time column.
 
+    The format rules of :func:`read_signals_csv` (comments, ``skip_rows``, units in the
+    header or in a row of units, delimiter and decimal comma detected). Used for tables that
+    are not time series (hysteresis loops, energy against amplitude).
 
-def _is_index(name: str, unit: str, values: np.ndarray) -> bool:
-    """A column of sample numbers: an index name, or consecutive integers without a unit."""
-    if name.strip().lower() in _INDEX_NAMES:
-        return True
-    if unit.strip() or values.size < 2:
-        return False
-    return bool(np.all(values == np.round(values)) and np.all(np.diff(values) == 1.0))
+    Returns
+    -------
+    SignalTable
+        name -> ndarray (n_rows,), with ``.units``; ``.time_column`` is ''.
 
-
-def _table_at_rate(p: Path, data: dict, names: list, units: list, time_column,
-                   sample_rate) -> SignalTable:
-    """The table with ``time = k / sample_rate``; index and time columns left out."""
-    rate = float(as_finite_array("sample_rate", sample_rate, ndim=0))
-    if rate <= 0:
-        raise ModelError(f"sample_rate must be > 0 Hz, got {sample_rate!r}")
-    drop = set()
-    if time_column is not None:
-        if isinstance(time_column, (int, np.integer)):
-            if not 0 <= time_column < len(names):
-                raise ModelError(f"{str(p)!r}: time_column index {time_column} out of range "
-                                 f"[0, {len(names)})")
-            drop.add(names[int(time_column)])
-        elif time_column not in data:
-            raise ModelError(f"{str(p)!r}: no column named {time_column!r}; columns are "
-                             f"{names}")
-        else:
-            drop.add(time_column)
-    drop.update(nm for nm in names if nm.lower() in _TIME_NAMES)
-    if _is_index(names[0], units[0], data[names[0]]):
-        drop.add(names[0])
-    if "time" in data and "time" not in drop:  # pragma: no cover - 'time' is a time name
-        drop.add("time")
-    n = next(iter(data.values())).size
-    out = {"time": np.arange(n) / rate}
-    unit_map = {"time": "s"}
-    for j, nm in enumerate(names):
-        if nm not in drop:
-            out[nm] = data[nm]
-            unit_map[nm] = units[j]
-    if len(out) == 1:
-        raise ModelError(f"{str(p)!r}: no signal columns left besides time and index")
-    return SignalTable(out, units=unit_map, path=p, time_column=f"<{rate:g} Hz>")
+    Raises
+    ------
+    ModelError
+        As :func:`read_signals_csv` (missing file, bad cells, ragged rows).
+    """
+    p = Path(path)
+    names, units, data, _ = _parse_csv(p, delimiter, decimal, skip_rows)
+    return SignalTable(data, units=dict(zip(names, units, strict=True)), path=p,
+                       time_column="")

