@@ -1,4 +1,5 @@
-"""Signal processing for measured and simulated records: FFT integration, CSV import.
+"""Signal processing for measured and simulated records: FFT integration, time bases, CSV
+import of signals, tables and hysteresis loops.
 
 Paper 002 (section 3.4, Fig. 7, appendix B) builds its torque-rotation loops from three
 accelerometers: the kinematic relations (B.1)-(B.10) turn the tangential accelerations into
@@ -10,14 +11,17 @@ integration step; the kinematic relations belong to the model of the test struct
 from __future__ import annotations
 
 import csv
+import math
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from fricdamp.errors import ModelError, as_finite_array
 
-__all__ = ["SignalTable", "fft_integrate", "read_signals_csv", "read_table_csv", "uniform_time"]
+__all__ = ["Loop", "SignalTable", "fft_integrate", "read_fit_input", "read_signals_csv",
+           "read_table_csv", "uniform_time"]
 
 
 def fft_integrate(x, dt: float, order: int = 1, *, f_low: float | None = None,
@@ -524,3 +528,148 @@ def read_table_csv(path, *, delimiter: str | None = None, decimal: str | None = 
     names, units, data, _ = _parse_csv(p, delimiter, decimal, skip_rows)
     return SignalTable(data, units=dict(zip(names, units, strict=True)), path=p,
                        time_column="")
+
+
+# ---------------------------------------------------------------------------------------------
+# hysteresis loops and energy tables (the input of fricdamp.analysis.fit)
+# ---------------------------------------------------------------------------------------------
+# units understood in loop files, to SI
+_LENGTH = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "nm": 1e-9}
+_ANGLE = {"rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "µrad": 1e-6, "μrad": 1e-6,
+          "deg": math.pi / 180.0, "°": math.pi / 180.0}
+_FORCE = {"n": 1.0, "kn": 1e3, "mn": 1e-3}
+_MOMENT = {"nm": 1.0, "n m": 1.0, "n*m": 1.0, "n.m": 1.0, "n·m": 1.0, "nmm": 1e-3,
+           "n mm": 1e-3, "n*mm": 1e-3, "mnm": 1e-3, "mn m": 1e-3, "knm": 1e3, "kn m": 1e3}
+_ENERGY = {"j": 1.0, "mj": 1e-3, "uj": 1e-6, "µj": 1e-6, "μj": 1e-6, "nj": 1e-9}
+_X_NAMES = ("displacement", "disp", "slip", "rotation", "rot", "theta", "angle", "x", "u")
+_F_NAMES = ("force", "load", "torque", "moment", "f", "m")
+
+
+@dataclass(frozen=True)
+class Loop:
+    """One measured hysteresis loop (whole periods, not closed).
+
+    Attributes
+    ----------
+    displacement : ndarray, shape (n,)
+        Relative displacement [m] or rotation [rad].
+    force : ndarray, shape (n,)
+        Force [N] or moment [N m] the joint resists it with.
+    rotational : bool
+        True for rotation/torque.
+    source : str
+    """
+
+    displacement: np.ndarray
+    force: np.ndarray
+    rotational: bool = False
+    source: str = ""
+
+    def __post_init__(self):
+        x = as_finite_array("displacement", self.displacement, ndim=1)
+        f = as_finite_array("force", self.force, ndim=1)
+        if x.size != f.size or x.size < 8:
+            raise ModelError(f"a loop needs displacement and force of equal length >= 8, got "
+                             f"{x.size} and {f.size} ({self.source or 'arrays'})")
+        if np.ptp(x) <= 0:
+            raise ModelError(f"the loop's displacement does not vary ({self.source or 'arrays'})")
+        object.__setattr__(self, "displacement", x)
+        object.__setattr__(self, "force", f)
+
+    @property
+    def amplitude(self) -> float:
+        """Half the peak-to-peak displacement [m] or rotation [rad]."""
+        return 0.5 * float(np.ptp(self.displacement))
+
+    @property
+    def force_amplitude(self) -> float:
+        """Half the peak-to-peak force [N] or moment [N m]."""
+        return 0.5 * float(np.ptp(self.force))
+
+    @property
+    def energy(self) -> float:
+        """Loop area [J] (trapezoidal, closed) of the samples held."""
+        from fricdamp.analysis.energy import loop_area
+
+        return loop_area(self.displacement, self.force)
+
+
+def _unit_key(u: str) -> str:
+    return u.strip().lower().replace("²", "^2")
+
+
+def _classify(name: str, unit: str):
+    """('x' | 'f' | 'e' | 'a' | None, rotational or None, factor) of a column."""
+    n, u = name.strip().lower(), _unit_key(unit)
+    if "energy" in n or u in _ENERGY:
+        return "e", None, _ENERGY.get(u, 1.0)
+    if "amplitude" in n:
+        if u in _ANGLE:
+            return "a", True, _ANGLE[u]
+        return "a", (True if "rot" in n or "theta" in n else False if u in _LENGTH else None), \
+            _LENGTH.get(u, 1.0)
+    if u in _MOMENT or any(k in n for k in ("torque", "moment")):
+        return "f", True, _MOMENT.get(u, 1.0)
+    if u in _ANGLE or any(k in n for k in ("rotation", "theta", "angle")):
+        return "x", True, _ANGLE.get(u, 1.0)
+    if u in _FORCE or n in _F_NAMES or "force" in n or "load" in n:
+        return "f", False, _FORCE.get(u, 1.0)
+    if u in _LENGTH or n in _X_NAMES or "displacement" in n or "slip" in n:
+        return "x", False, _LENGTH.get(u, 1.0)
+    return None, None, 1.0
+
+
+def read_fit_input(path):
+    """Loops or an energy table from a CSV file or a ``fricdamp identify`` output folder.
+
+    The input of :func:`fricdamp.analysis.fit.fit_joint` (``fricdamp fit LOOPS``).
+
+    A CSV holds either one loop -- a displacement (``displacement [m]``, ``[mm]``, ``[um]``) or
+    rotation (``rotation [rad]``, ``[mrad]``, ``[deg]``) column and a force (``force [N]``) or
+    torque (``torque [N m]``) column, any time or phase column being ignored; the samples
+    should span whole periods -- or dissipated energy against amplitude (``amplitude [rad]``
+    or ``[m]``, ``energy [J]``). A folder written by ``fricdamp identify`` gives its
+    ``loop.csv`` (one period of rotation and torque).
+
+    Returns
+    -------
+    list of Loop, or (amplitude, energy, rotational)
+        The loop(s), or the energy table as arrays (n,), (n,) and a flag.
+
+    Raises
+    ------
+    ModelError
+        A missing file, no recognisable columns (listing them), bad units.
+    """
+    p = Path(path)
+    if p.is_dir():
+        if not (p / "loop.csv").is_file():
+            raise ModelError(f"{str(p)!r} is a folder without loop.csv (expected the output "
+                             "folder of fricdamp identify)")
+        p = p / "loop.csv"
+    if not p.is_file():
+        raise ModelError(f"loop file {str(p)!r} does not exist")
+    tab = read_table_csv(p)
+    roles = {}
+    for name in tab:
+        role, rot, factor = _classify(name, tab.units.get(name, ""))
+        if role is not None and role not in roles:
+            roles[role] = (name, rot, factor)
+    cols = [f"{k} [{tab.units.get(k, '')}]" for k in tab]
+    if "a" in roles and "e" in roles:
+        (na, rot, fa), (ne, _, fe) = roles["a"], roles["e"]
+        a = np.asarray(tab[na]) * fa
+        e = np.asarray(tab[ne]) * fe
+        if np.any(a <= 0) or np.any(e <= 0):
+            raise ModelError(f"{str(p)!r}: amplitudes and energies must be > 0")
+        return a, e, bool(rot)
+    if "x" not in roles or "f" not in roles:
+        raise ModelError(f"{str(p)!r}: needs a displacement or rotation column and a force or "
+                         f"torque column (or amplitude and energy); columns: {cols}")
+    (nx, rx, fx), (nf, rf, ff) = roles["x"], roles["f"]
+    if rx is not None and rf is not None and rx != rf:
+        raise ModelError(f"{str(p)!r}: column {nx!r} and column {nf!r} do not match (a rotation "
+                         "goes with a torque, a displacement with a force)")
+    rot = bool(rx if rx is not None else rf)
+    return [Loop(np.asarray(tab[nx]) * fx, np.asarray(tab[nf]) * ff, rotational=rot,
+                 source=str(p))]
