@@ -75,12 +75,13 @@ def remove_drift(x, n_periods):
     return x - slope * ramp
 
 
-def spectral(x, dt, n_periods, mode, n_harmonics, f_low):
+def spectral(x, dt, n_periods, mode, n_harmonics, f_low, n_velocity=None):
     """Filter and integrate accelerations ``x`` (n, k) column by column.
 
-    Returns the filtered accelerations (n, k), their first integrals (n, k), second
-    integrals (n, k), and the fraction of the signals' RMS (without the mean, all columns
-    together) that the filter removed (drift included).
+    Returns the filtered accelerations (n, k), the first integrals of the first
+    ``n_velocity`` columns (n, n_velocity) (default all), the second integrals (n, k), and
+    the fraction of the signals' RMS (without the mean, all columns together) that the
+    filter removed (drift included).
     """
     from scipy import fft as sfft
 
@@ -99,15 +100,16 @@ def spectral(x, dt, n_periods, mode, n_harmonics, f_low):
     spec[~keep] = 0.0
     kept = sfft.irfft(spec, n=n, axis=0)
     residual = float(np.sqrt(np.sum((x0 - kept) ** 2) / total)) if total > 0 else 0.0
+    nv = x.shape[1] if n_velocity is None else int(n_velocity)
     if mode == "harmonic":
         iw = np.zeros(freq.size, dtype=complex)
         iw[keep] = 1.0 / (2j * np.pi * freq[keep])
         spec *= iw[:, None]
-        vel = sfft.irfft(spec, n=n, axis=0)
+        vel = sfft.irfft(spec[:, :nv], n=n, axis=0)
         spec *= iw[:, None]
         dis = sfft.irfft(spec, n=n, axis=0)
         return kept, vel, dis, residual
-    vel = fft_integrate(x, dt, 1, f_low=f_low)
+    vel = fft_integrate(x[:, :nv], dt, 1, f_low=f_low)
     dis = fft_integrate(x, dt, 2, f_low=f_low)
     return x - x.mean(axis=0), vel, dis, residual
 
@@ -150,21 +152,22 @@ def process_window(G, dt, n_periods, geometry, *, positions=None, kinematics="pa
     ga, gb, gc = G[:, 0], G[:, 1], G[:, 2]
     acc = np.stack(kinematics_linear(ga, gb, gc, d1, d2, d3, d4, d5), axis=1)
 
-    def integrate(a):
-        kept, vel, dis, res = spectral(a.reshape(n, -1), dt, n_periods, filter, n_harmonics,
-                                       f_low)
-        shape = (n, 3) + batch
-        return kept.reshape(shape), vel.reshape(shape), dis.reshape(shape), res
+    n_batch = int(np.prod(batch, dtype=int))
 
-    a, v, d, residual = integrate(acc)
+    def integrate(a):  # columns (theta1'' x batch, theta2'' x batch, x1'' x batch)
+        kept, vel, dis, res = spectral(a.reshape(n, -1), dt, n_periods, filter, n_harmonics,
+                                       f_low, n_velocity=n_batch)  # only theta1' is needed
+        shape = (n, 3) + batch
+        return kept.reshape(shape), vel.reshape((n,) + batch), dis.reshape(shape), res
+
+    a, w1, d, residual = integrate(acc)
     if kinematics == "exact":
         g = geometry.gravity if gravity_sensing else 0.0
         for _ in range(int(iterations)):
-            acc = np.stack(kinematics_exact(ga, gb, gc, d[:, 0], d[:, 1], v[:, 0], d1, d2, d3,
+            acc = np.stack(kinematics_exact(ga, gb, gc, d[:, 0], d[:, 1], w1, d1, d2, d3,
                                             d4, d5, g), axis=1)
-            a, v, d, residual = integrate(acc)
+            a, w1, d, residual = integrate(acc)
     t1, t2, x1 = d[:, 0], d[:, 1], d[:, 2]
-    w1 = v[:, 0]
     tq = torque_002(t1, t2, w1, a[:, 0], a[:, 1], a[:, 2], geometry.beam2_mass,
                     geometry.beam2_inertia, geometry.gravity, d3, d5)
     rot = t1 - t2

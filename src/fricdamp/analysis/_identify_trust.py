@@ -206,13 +206,24 @@ def noise_level(Gw, n_periods: int) -> np.ndarray:
     return np.sqrt(np.median(power, axis=0) / (n * math.log(2.0)))
 
 
+#: at most this many blocks, spread evenly over a long record (the statistic needs no more)
+MAX_BLOCKS = 24
+
+
 def block_energies(t, G, dt, frequency, geometry, options, block_periods: int) -> np.ndarray:
-    """E_d of separate blocks of ``block_periods`` whole periods, from the record's end."""
+    """E_d of separate blocks of ``block_periods`` whole periods, from the record's end.
+
+    Every block of the steady record up to :data:`MAX_BLOCKS`; a longer record gives that
+    many blocks spread evenly over it (latest first).
+    """
     per = 1.0 / (frequency * dt)
     n = t.size
     n_blocks = int(np.floor(n / per + 1e-9)) // block_periods
+    picks = range(n_blocks)
+    if n_blocks > MAX_BLOCKS:
+        picks = np.unique(np.round(np.linspace(0, n_blocks - 1, MAX_BLOCKS)).astype(int))
     out = []
-    for b in range(n_blocks):
+    for b in picks:
         end = n - int(round(b * block_periods * per))
         if end < block_periods * per:
             break
