@@ -40,17 +40,14 @@ EXIT_OK, EXIT_FAILURE, EXIT_INVALID, EXIT_UNRELIABLE = 0, 1, 2, 3
 
 def add_subparsers(subparsers) -> None:
     """Add the ``fit`` command to an argparse subparsers object (``func`` = handle_fit)."""
-    import argparse
-
     s = subparsers.add_parser(
         "fit", help="fit a Jenkins, Iwan or rough-contact joint model to measured loops",
         description="Fit a joint model (Jenkins element, four-parameter Iwan, or paper 002's "
                     "rough rotational joint) to hysteresis loops and/or dissipated energy "
-                    "against amplitude, with 95 %% confidence intervals. Writes fit.json "
+                    "against amplitude, with 95 % confidence intervals. Writes fit.json "
                     "and fit.png.",
         epilog="Exit codes: 0 fitted; 3 fitted but unreliable (warnings say why); 2 invalid "
-               "input; 1 the fit failed or internal error. Keys: docs/fit.md.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+               "input; 1 the fit failed or internal error. Keys: docs/fit.md.")
     s.add_argument("loops", nargs="+", metavar="LOOPS",
                    help="loop CSV files, energy tables or fricdamp identify output folders")
     s.add_argument("--model", required=True, choices=("jenkins", "iwan", "rough"),

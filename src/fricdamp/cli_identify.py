@@ -267,8 +267,6 @@ def add_subparsers(subparsers) -> None:
     Sets ``func`` (and ``handler``) to :func:`handle_identify`, which takes the parsed
     arguments and returns the exit code.
     """
-    import argparse
-
     s = subparsers.add_parser(
         "identify", help="torque-rotation loop of a joint from three accelerometers "
                          "(paper 002)",
@@ -276,12 +274,11 @@ def add_subparsers(subparsers) -> None:
                     "units in the header, or Universal File dataset 58): kinematics, "
                     "FFT integration over whole periods after the start-up transient, joint "
                     "torque, loop area and damping ratios, with diagnostics (block scatter, "
-                    "conditioning, 95 %% confidence intervals from a Monte Carlo of sensor "
+                    "conditioning, 95 % confidence intervals from a Monte Carlo of sensor "
                     "positions, sensitivities, delays and noise). Writes identification.json, "
                     "summary.json, loop.csv and loop.png.",
         epilog="Exit codes: 0 identified; 3 identified but unreliable (outputs written, the "
-               "warnings say why); 2 invalid input; 1 internal error. Keys: docs/identify.md.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+               "warnings say why); 2 invalid input; 1 internal error. Keys: docs/identify.md.")
     s.add_argument("signals", help="signal file: CSV (time + channels) or UFF (.uff/.unv)")
     s.add_argument("--rig", required=True, metavar="RIG.toml",
                    help="rig geometry, channel names and processing options (TOML)")
