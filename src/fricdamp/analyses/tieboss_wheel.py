@@ -223,8 +223,17 @@ class ModalAnalysis(Section):
                                                      "family of Table 1)")
 
 
+def _solid(model):
+    """The solid-wheel model object, or None (paper 003 on solid sectors shares these
+    analyses: :mod:`fricdamp.analyses.tieboss_wheel_solid`)."""
+    from fricdamp.analyses import tieboss_wheel_solid as solid
+
+    return solid if solid.is_solid(model) else None
+
+
 def _check_modal(model, spec: ModalAnalysis) -> None:
-    _require_model(model, "[analysis.modal]")
+    if _solid(model) is None:
+        _require_model(model, "[analysis.modal]")
 
 
 def run_modal(model: TiebossWheelCaseModel, spec: ModalAnalysis,
@@ -236,6 +245,8 @@ def run_modal(model: TiebossWheelCaseModel, spec: ModalAnalysis,
     from fricdamp.models.tieboss_analyses import modal_by_nd
     from fricdamp.models.tieboss_wheel import TABLE1_EXPERIMENT_HZ
 
+    if (solid := _solid(model)) is not None:
+        return solid.run_solid_modal(model, spec, ctx)
     obj = _require_model(model, "[analysis.modal]")
     m = modal_by_nd(obj.sector, n_modes=spec.n_modes)
     summary = {"nd": m["nd"], "frequency_hz": m["frequency_hz"], "n_modes": spec.n_modes,
@@ -397,7 +408,8 @@ def _check_steps(spec) -> None:
 
 
 def _check_free_attenuation(model, spec: FreeAttenuationAnalysis) -> None:
-    obj = _require_model(model, "[analysis.free_attenuation]")
+    obj = model if _solid(model) is not None else _require_model(
+        model, "[analysis.free_attenuation]")
     _check_nds(obj, "nodal_diameters", spec.nodal_diameters)
 
 
@@ -424,6 +436,8 @@ def run_free_attenuation(model: TiebossWheelCaseModel, spec: FreeAttenuationAnal
 
     from fricdamp.models.tieboss_analyses import free_decay, modal_by_nd
 
+    if (solid := _solid(model)) is not None:
+        return solid.run_solid_free_attenuation(model, spec, ctx)
     obj = _require_model(model, "[analysis.free_attenuation]")
     method, notes = _solver_notes(ctx)
     wheel = obj.wheel(spec.n_modes)

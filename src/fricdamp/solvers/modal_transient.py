@@ -92,6 +92,9 @@ class _DenseCompliance:
     def diagonal_block(self, sl: slice):
         return self.C[sl, sl]
 
+    def submatrix(self, idx):
+        return self.C[np.ix_(idx, idx)]
+
     def dense(self):
         return self.C
 
@@ -224,6 +227,21 @@ class _CyclicCompliance:
 
     def apply(self, f):
         return self._spectral(f, lambda k, x: self.H[k] @ x)
+
+    def circulant(self) -> np.ndarray:
+        """``c(d)``, (N, r, r): the block coupling contact j to contact j - d."""
+        if getattr(self, "_c", None) is None:
+            Hs = np.zeros((self.N // 2 + 1, self.r, self.r), dtype=complex)
+            for k, Hk in self.H.items():
+                Hs[k] = Hk
+            self._c = np.fft.irfft(Hs, n=self.N, axis=0)
+        return self._c
+
+    def submatrix(self, idx):
+        c = self.circulant()
+        idx = np.asarray(idx)
+        j, p = np.divmod(idx, self.r)
+        return c[(j[:, None] - j[None, :]) % self.N, p[:, None], p[None, :]]
 
     def diagonal_block(self, sl: slice):
         if sl.stop - sl.start != self.r or sl.start % self.r:
@@ -391,23 +409,60 @@ def _block_apply(K, x):
     return np.einsum("jab,jb->ja", K, x.reshape(-1, 3)).reshape(-1)
 
 
+def _times_block_diagonal(D, K, sl: slice) -> np.ndarray:
+    """``D @ blockdiag(K[contacts of sl])`` for a dense (r x 3n) D, without forming the
+    block-diagonal matrix."""
+    Ks = K[sl.start // 3:sl.stop // 3]
+    r, n = D.shape[0], Ks.shape[0]
+    return np.matmul(D.reshape(r, n, 3).transpose(1, 0, 2), Ks).transpose(1, 0, 2).reshape(
+        r, 3 * n)
+
+
+#: Largest active set (rows of closed contacts) solved by a dense LU in a Newton step.
+DENSE_ACTIVE_MAX = 2400
+
+
+def _active_newton_step(C, K, g, ap):
+    """Solve ``(I + ap C K) du = g`` exactly through the closed contacts only.
+
+    ``K`` (nc, 3, 3) vanishes on open contacts, so with ``A`` the rows of the closed ones:
+    ``(I + ap C_AA K_AA) du_A = g_A`` and ``du_rest = g_rest - ap (C z)_rest`` with
+    ``z_A = K_AA du_A``. Returns du, or None when the active set is too large."""
+    closed = np.flatnonzero(np.any(K != 0.0, axis=(1, 2)))
+    if closed.size == 0:
+        return g.copy()
+    if 3 * closed.size > DENSE_ACTIVE_MAX:
+        return None
+    A = (3 * closed[:, None] + np.arange(3)).reshape(-1)
+    KA = _block_matrix(K[closed])
+    JA = np.eye(A.size) + ap * (C.submatrix(A) @ KA)
+    duA = np.linalg.solve(JA, g[A])
+    z = np.zeros_like(g)
+    z[A] = KA @ duA
+    du = g - ap * C.apply(z)
+    du[A] = duA
+    return du
+
+
 def _newton_krylov_step(C, K, g, blocks, ap, tol):
     """Solve ``(I + ap C K) du = g`` by GMRES, block-Jacobi preconditioned by patches.
 
-    ``C`` is a compliance operator (``apply``, ``diagonal_block``)."""
+    ``C`` is a compliance operator (``apply``, ``diagonal_block``). Returns (du, info)."""
     m = g.size
 
     def matvec(x):
         return x + ap * C.apply(_block_apply(K, x))
 
+    diag = getattr(C, "_diag_cache", None)
+    if diag is None:
+        diag = {}
+        C._diag_cache = diag
     inv_blocks = []
     for sl in blocks:
-        idx = np.arange(sl.start, sl.stop)
-        Kb = np.zeros((idx.size, idx.size))
-        nb = idx.size // 3
-        for j in range(nb):
-            Kb[3 * j:3 * j + 3, 3 * j:3 * j + 3] = K[sl.start // 3 + j]
-        Jb = np.eye(idx.size) + ap * (C.diagonal_block(sl) @ Kb)
+        key = (sl.start, sl.stop) if not hasattr(C, "H") else (sl.stop - sl.start,)
+        if key not in diag:
+            diag[key] = np.asarray(C.diagonal_block(sl))
+        Jb = np.eye(sl.stop - sl.start) + ap * _times_block_diagonal(diag[key], K, sl)
         inv_blocks.append(sla.lu_factor(Jb, check_finite=False))
 
     def precond(x):
@@ -639,11 +694,162 @@ class ModalTransientResult:
                 "slip": float(np.mean(st == 2))}
 
 
+class _State:
+    """Modal and contact state after a step, with the cumulative energies."""
+
+    __slots__ = ("eta", "vel", "acc", "u", "uv", "ua", "f", "BTf", "w", "s", "code", "e_in",
+                 "e_visc", "e_cw", "e_cd")
+
+    def copy(self) -> _State:
+        new = _State()
+        for name in self.__slots__:
+            setattr(new, name, getattr(self, name))
+        return new
+
+
+class _Level:
+    """Newmark/HHT coefficients, compliance and chord of one step size."""
+
+    def __init__(self, basis, con, h, alpha, C=None):
+        (self.c0, self.c1, self.c2, self.c3, self.c4, self.c5), self.gamma, self.ap, \
+            self.s_inv = _newmark(basis, h, alpha)
+        self.h = h
+        self.C = basis.rows.compliance(self.s_inv) if C is None else C
+        self._chord = None
+        self._con = con
+
+    @property
+    def chord(self):
+        if self._chord is None:
+            self._chord = self.C.chord(self._con.stick_diagonal(), self.ap)
+        return self._chord
+
+
+class _Stepper:
+    """One Newmark step condensed on the contacts, with bisection on failure."""
+
+    def __init__(self, basis, con, dt, alpha, tol, max_iter, chord, max_halvings, C0):
+        self.basis, self.con, self.dt, self.alpha = basis, con, dt, alpha
+        self.tol, self.max_iter, self.use_chord = tol, max_iter, chord
+        self.max_halvings = int(max_halvings)
+        self.levels = {0: _Level(basis, con, dt, alpha, C0)}
+        self.chord_ok = True
+        self.n_iterations = self.n_newton = self.n_halved = 0
+        self.last_residual = np.nan
+
+    def level(self, i: int) -> _Level:
+        if i not in self.levels:
+            self.levels[i] = _Level(self.basis, self.con, self.dt / 2 ** i, self.alpha)
+        return self.levels[i]
+
+    def initial_state(self, eta, vel, w, s, Fm) -> _State:
+        rows, con, b = self.basis.rows, self.con, self.basis
+        st = _State()
+        st.eta, st.vel = eta, vel
+        st.u, st.uv = rows.rows(eta), rows.rows(vel)
+        st.f = con.evaluate(st.u, st.uv, w, s)
+        code = con.code.copy()
+        code[(code == 1) & (s == 1.0)] = 2   # a contact given as slipping stays "slip"
+        st.code = code
+        st.w, st.s = con.w1.copy(), con.s1.copy()
+        st.BTf = rows.rows_T(st.f)
+        st.acc = Fm - b.damping * vel - b.omega2 * eta - st.BTf
+        st.ua = rows.rows(st.acc)
+        st.e_in = st.e_visc = st.e_cw = st.e_cd = 0.0
+        self.Fm = Fm
+        return st
+
+    def advance(self, st: _State, lvl: int) -> _State | None:
+        """The state one step of level ``lvl`` later, or None."""
+        new = self._step(st, self.level(lvl))
+        if new is not None or lvl >= self.max_halvings:
+            return new
+        self.n_halved += 1
+        half = self.advance(st, lvl + 1)
+        return None if half is None else self.advance(half, lvl + 1)
+
+    def _step(self, st: _State, L: _Level) -> _State | None:
+        con, rows, b = self.con, self.basis.rows, self.basis
+        lam, cd, Fm, alpha, ap = b.omega2, b.damping, self.Fm, self.alpha, L.ap
+        c0, c1, c2, c3, c4, c5 = L.c0, L.c1, L.c2, L.c3, L.c4, L.c5
+        C = L.C
+        eta, vel, acc, u, uv, ua = st.eta, st.vel, st.acc, st.u, st.uv, st.ua
+        rhs = (Fm + alpha * (cd * vel + lam * eta + st.BTf) + c0 * eta + c2 * vel + c3 * acc
+               + ap * cd * (c1 * eta - c4 * vel - c5 * acc))
+        eta_lin = rhs * L.s_inv
+        u_lin = rows.rows(eta_lin)
+        un = u_lin - ap * C.apply(st.f)        # predictor: the contact forces unchanged
+        use_chord = self.use_chord and self.chord_ok   # the chord failed last step: skip it
+        self.chord_ok = True
+        res_prev = np.inf
+        converged = False
+        for _it in range(self.max_iter + 1):
+            vv = c1 * (un - u) + c4 * uv + c5 * ua
+            fnew = con.evaluate(un, vv, st.w, st.s)
+            Cf = C.apply(fnew)
+            g = un - u_lin + ap * Cf
+            res = float(np.max(np.abs(g)))
+            # the scale includes |C f|: g is a difference of the three, so its round-off is
+            # relative to the largest (stiff penalties make |C f| >> |u|)
+            scale = max(float(np.max(np.abs(un))), float(np.max(np.abs(u_lin))),
+                        float(np.max(np.abs(ap * Cf))), 1e-300)
+            if res <= self.tol * scale:
+                converged = True
+                break
+            self.n_iterations += 1
+            if use_chord and res > 0.25 * res_prev:
+                use_chord = self.chord_ok = False
+            res_prev = res
+            if use_chord:
+                un = un - L.chord(g)
+                continue
+            self.n_newton += 1
+            Kt = con.Ku + c1 * con.Kv
+            du = _active_newton_step(C, Kt, g, ap)
+            if du is None:
+                du = _newton_krylov_step(C, Kt, g, con.blocks, ap, 1e-6)[0]
+            # backtracking on max|g|: stick/slip and open/closed switches make g only
+            # piecewise smooth, and a full step can cycle between two contact states
+            lam_s = 1.0
+            for _ls in range(8):
+                trial = un - lam_s * du
+                vt = c1 * (trial - u) + c4 * uv + c5 * ua
+                ft = con.evaluate(trial, vt, st.w, st.s)
+                if np.max(np.abs(trial - u_lin + ap * C.apply(ft))) < res:
+                    break
+                lam_s *= 0.5
+            un = trial
+        self.last_residual = res
+        if not converged:
+            return None
+        new = _State()
+        new.BTf = rows.rows_T(fnew)
+        new.eta = eta_lin - ap * L.s_inv * new.BTf
+        new.acc = c0 * (new.eta - eta) - c2 * vel - c3 * acc
+        new.vel = vel + L.h * ((1.0 - L.gamma) * acc + L.gamma * new.acc)
+        deta = new.eta - eta
+        new.e_in = st.e_in + float(deta @ Fm)
+        new.e_visc = st.e_visc + 0.5 * float(np.sum(deta * cd * (vel + new.vel)))
+        u1 = u_lin - ap * Cf                     # = B eta1 exactly (up to round-off)
+        new.e_cw = st.e_cw + 0.5 * float((u1 - u) @ (st.f + fnew))
+        fr = fnew.reshape(-1, 3)
+        new.e_cd = st.e_cd + float(np.sum(fr[:, 1] * (con.w1[:, 0] - st.w[:, 0])
+                                          + fr[:, 2] * (con.w1[:, 1] - st.w[:, 1])))
+        du_c = u1 - u
+        new.ua = c0 * du_c - c2 * uv - c3 * ua
+        new.uv = c1 * du_c + c4 * uv + c5 * ua
+        new.u = u1
+        new.f = fnew
+        new.w, new.s = con.w1.copy(), con.s1.copy()
+        new.code = con.code.copy()
+        return new
+
+
 def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=None,
                     vel0=None, states0=None, load=None, t0: float = 0.0,
                     method: str = "newmark", alpha: float = -0.05, save_every: int = 1,
                     contact_every: int | None = None, tol: float = 1e-10,
-                    max_iter: int = 40, chord: bool = True,
+                    max_iter: int = 40, chord: bool = True, max_halvings: int = 4,
                     compliance: np.ndarray | None = None, progress: bool | None = None,
                     throw: bool = True) -> ModalTransientResult:
     """Integrate a modal model with Contact3D patches (module docstring).
@@ -671,10 +877,15 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
     contact_every : int, optional
         Store contact displacements and forces every k-th step (default: ``save_every``).
     tol, max_iter
-        Convergence ``max |g| <= tol max(|u|, |u_lin|)`` per step; iterations per step.
+        Convergence ``max |g| <= tol max(|u|, |u_lin|, |(1 + alpha) C f|)`` per step;
+        iterations per step.
     chord : bool
         Start every step with chord iterations (default); ``False``: Newton-Krylov from the
         first iteration. Both stop on the same residual test.
+    max_halvings : int
+        A step whose Newton iteration does not converge is redone as two half steps,
+        recursively, at most this many times (time-step bisection, as FE codes do);
+        outputs stay on the ``dt`` grid.
     compliance : ndarray, shape (m, m), optional
         ``C`` of :func:`transient_compliance` for the same basis, ``dt`` and method, if
         already formed (it does not depend on the contacts: re-use it across runs).
@@ -714,25 +925,15 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
             raise ModelError(f"{name} must be a finite vector of length {n}")
     con = _Contacts(laws, basis)
     w, s = _states(laws, states0, con.nc)
-    lam, cd, rows, out = basis.omega2, basis.damping, basis.rows, basis.output
+    lam, rows, out = basis.omega2, basis.rows, basis.output
 
     tic = time.perf_counter()
+    stepper = _Stepper(basis, con, float(dt), alpha, tol, max_iter, bool(chord), max_halvings,
+                       None if compliance is None else _as_compliance(compliance))
     with _blas1():
-        h = float(dt)
-        (c0, c1, c2, c3, c4, c5), gamma, ap, s_inv = _newmark(basis, h, alpha)
-        C = rows.compliance(s_inv) if compliance is None else _as_compliance(compliance)
-        if C.m != m:
-            raise ModelError(f"compliance must be m x m with m = {m} contact rows, got {C.m}")
-        chord_solve = C.chord(con.stick_diagonal(), ap)
-        u = rows.rows(eta)
-        uv = rows.rows(vel)
-        f = con.evaluate(u, uv, w, s)
-        code = con.code.copy()
-        code[(code == 1) & (s == 1.0)] = 2   # a contact given as slipping stays "slip"
-        w, s = con.w1.copy(), con.s1.copy()
-        BTf = rows.rows_T(f)
-        acc = Fm - cd * vel - lam * eta - BTf
-        ua = rows.rows(acc)
+        if stepper.level(0).C.m != m:
+            raise ModelError(f"compliance must be m x m with m = {m} contact rows")
+        st = stepper.initial_state(eta, vel, w, s, Fm)
     setup = time.perf_counter() - tic
 
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
@@ -745,20 +946,19 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
     TC = np.zeros(n_csave)
     U = np.zeros((n_csave, con.nc, 3))
     FO = np.zeros((n_csave, con.nc, 3))
-    acc_in = acc_visc = acc_cw = acc_cd = 0.0
 
     def store(k, kc, t, step):
         if step % save_every == 0:
             T[k] = t
-            Q[k] = out @ eta
-            S[k] = con.code if step else code
-            E[k] = (acc_in, 0.5 * vel @ vel, 0.5 * np.sum(lam * eta * eta), acc_visc, acc_cw,
-                    con.energy(u, w), acc_cd)
+            Q[k] = out @ st.eta
+            S[k] = st.code
+            E[k] = (st.e_in, 0.5 * st.vel @ st.vel, 0.5 * np.sum(lam * st.eta * st.eta),
+                    st.e_visc, st.e_cw, con.energy(st.u, st.w), st.e_cd)
             k += 1
         if step % contact_every == 0:
             TC[kc] = t
-            U[kc] = u.reshape(-1, 3)
-            FO[kc] = f.reshape(-1, 3)
+            U[kc] = st.u.reshape(-1, 3)
+            FO[kc] = st.f.reshape(-1, 3)
             kc += 1
         return k, kc
 
@@ -769,70 +969,22 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
         from tqdm.auto import tqdm
 
         bar = tqdm(total=n_steps, desc="time steps", unit="step", leave=False)
-    n_it = n_kr = 0
     status, message, done = 0, "finished", n_steps
     cpu0 = time.process_time()
     tic = time.perf_counter()
     with _blas1():
         for step in range(1, n_steps + 1):
-            b = (Fm + alpha * (cd * vel + lam * eta + BTf) + c0 * eta + c2 * vel + c3 * acc
-                 + ap * cd * (c1 * eta - c4 * vel - c5 * acc))
-            eta_lin = b * s_inv
-            u_lin = rows.rows(eta_lin)
-            un = u.copy()
-            use_chord = bool(chord)
-            res_prev = np.inf
-            converged = False
-            for _it in range(max_iter + 1):
-                vv = c1 * (un - u) + c4 * uv + c5 * ua
-                fnew = con.evaluate(un, vv, w, s)
-                Cf = C.apply(fnew)
-                g = un - u_lin + ap * Cf
-                res = float(np.max(np.abs(g)))
-                scale = max(float(np.max(np.abs(un))), float(np.max(np.abs(u_lin))), 1e-300)
-                if res <= tol * scale:
-                    converged = True
-                    break
-                n_it += 1
-                if use_chord and res > 0.25 * res_prev:
-                    use_chord = False
-                res_prev = res
-                if use_chord:
-                    un = un - chord_solve(g)
-                    continue
-                n_kr += 1
-                du, _info = _newton_krylov_step(C, con.Ku + c1 * con.Kv, g, con.blocks, ap,
-                                                1e-3)
-                un = un - du
-            if not converged:
+            new = stepper.advance(st, 0)
+            if new is None:
                 status, done = 1, step - 1
-                message = (f"Newton did not converge at t = {t0 + step * h:.6g} s within "
-                           f"{max_iter} iterations (residual {res:.3g} m); try a smaller dt")
+                message = (f"Newton did not converge at t = {t0 + step * dt:.6g} s, even with "
+                           f"the step halved {max_halvings} times (residual "
+                           f"{stepper.last_residual:.3g} m); try a smaller dt")
                 break
-            BTf_new = rows.rows_T(fnew)
-            eta1 = eta_lin - ap * s_inv * BTf_new
-            acc1 = c0 * (eta1 - eta) - c2 * vel - c3 * acc
-            vel1 = vel + h * ((1.0 - gamma) * acc + gamma * acc1)
-            deta = eta1 - eta
-            acc_in += float(deta @ Fm)
-            acc_visc += 0.5 * float(np.sum(deta * cd * (vel + vel1)))
-            u1 = u_lin - ap * Cf                     # = B eta1 exactly (up to round-off)
-            acc_cw += 0.5 * float((u1 - u) @ (f + fnew))
-            fr = fnew.reshape(-1, 3)
-            acc_cd += float(np.sum(fr[:, 1] * (con.w1[:, 0] - w[:, 0])
-                                   + fr[:, 2] * (con.w1[:, 1] - w[:, 1])))
-            du_c = u1 - u
-            ua_new = c0 * du_c - c2 * uv - c3 * ua
-            uv = c1 * du_c + c4 * uv + c5 * ua
-            ua = ua_new
-            u = u1
-            eta, vel, acc = eta1, vel1, acc1
-            f = fnew
-            BTf = BTf_new
-            w, s = con.w1.copy(), con.s1.copy()
+            st = new
             if step % 512 == 0:            # no drift of the contact-space Newmark recursion
-                uv, ua = rows.rows(vel), rows.rows(acc)
-            k, kc = store(k, kc, t0 + step * h, step)
+                st.uv, st.ua = rows.rows(st.vel), rows.rows(st.acc)
+            k, kc = store(k, kc, t0 + step * dt, step)
             if bar is not None:
                 bar.update(1)
     runtime = time.perf_counter() - tic
@@ -841,6 +993,8 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
         bar.close()
     if status and throw:
         raise ConvergenceError(message)
+    eta, vel, w, s = st.eta, st.vel, st.w, st.s
+    n_it, n_kr = stepper.n_iterations, stepper.n_newton
     return ModalTransientResult(
         t=T[:k], output=Q[:k], contact_status=S[:k], t_contacts=TC[:kc],
         contact_displacement=U[:kc], contact_force=FO[:kc],
@@ -849,4 +1003,5 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
         status=status, message=message, n_steps=int(done), n_iterations=int(n_it),
         n_krylov=int(n_kr), runtime_s=runtime, cpu_s=cpu, setup_s=setup,
         method="newmark" if alpha == 0 else f"hht(alpha={alpha:g})",
-        meta={"n_modes": int(n), "n_contact_rows": int(m)})
+        meta={"n_modes": int(n), "n_contact_rows": int(m),
+              "n_halved_steps": int(stepper.n_halved)})

@@ -1,0 +1,640 @@
+"""Paper 003 on solid finite-element wheels: ``[model] type = "tieboss_wheel_solid"`` (the
+parametric tet10 sector of :mod:`fricdamp.models.tieboss_solid`) and ``[model] type =
+"cyclic_sector"`` (a user's meshed sector, read with meshio).
+
+Both build a :class:`~fricdamp.models.contact_wheel.WheelSector` -- the sparse sector with
+its cyclic cuts, its two contact faces paired node by node into a
+:class:`~fricdamp.structure.contact_patch.ContactPatch`, a probe and the load nodes -- and
+run paper 003's strategy on the reduced wheel of :mod:`fricdamp.models.contact_wheel`. The
+analyses are those of the beam wheel (same tables, same summary keys):
+
+``[analysis.modal]``
+    open-contact frequencies by ND 0..N/2 of the *unreduced* sector (sparse shift-invert with
+    the complex cyclic constraint), Table 1 comparison, and the reduced wheel's first family
+    beside it (``reduction_max_error``); figures: Table 1 and the mesh.
+``[analysis.free_attenuation]``
+    003 section 3 per ND on the reduced wheel with every node pair of every contact patch;
+    top-level ``decay`` entries with ``state_fractions``; figures: decay envelopes and the
+    contact-status maps over each face (003 Figs 17-18).
+``[analysis.penalty_convergence]``
+    the same decays for several penalty factors at the same prestress (the offset is
+    re-calibrated for each): ``damping_ratio_2nd`` / ``_6nd`` against ``penalty_factor``.
+
+Summary contract (issue 12)::
+
+    model: {"element_type", "n_elements_sector", "sector_dof", "wheel_dof", "reduced_dof",
+            "contact_pairs_per_tieboss", "prestress_normal_force_N", "penalty_factor", ...}
+    modal: {"nd": [0..15], "frequency_hz": [...], ...}
+    decay: [{"nd", "damping_ratio", "initial_amplitude_m", "runtime_s",
+             "energy_balance_error", "state_fractions": {"open", "stick", "slip"}}, ...]
+    penalty_convergence: {"penalty_factor": [...], "damping_ratio_2nd": [...],
+                          "damping_ratio_6nd": [...]}
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Annotated, Any, ClassVar, Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from fricdamp.case import Positive, Section
+from fricdamp.errors import CaseError
+from fricdamp.runner import (
+    AnalysisOutput,
+    BuildContext,
+    ModelObject,
+    RunContext,
+    register_analysis,
+    register_model,
+)
+
+__all__ = ["CyclicSectorSpec", "PenaltyConvergenceAnalysis", "SolidWheelCaseModel",
+           "SolidWheelSpec", "paper_wheel_sector", "run_penalty_convergence",
+           "run_solid_free_attenuation", "run_solid_modal"]
+
+MODEL_TYPES = ("tieboss_wheel_solid", "cyclic_sector")
+_ANALYSES = ("[analysis.modal], [analysis.free_attenuation] and "
+             "[analysis.penalty_convergence]")
+STATE_COLORS = ("#d9d9d9", "#1f77b4", "#d62728")
+
+
+# ================================================================================ schemas
+class _PipelineSpec(Section):
+    """Reduction, damping and contact keys shared by the solid model types."""
+
+    n_modes: int = Field(30, ge=1, le=2000, description="fixed-interface modes of the "
+                                                        "sector (Craig-Bampton)")
+    n_interface_modes: int = Field(60, ge=1, le=5000, description="interface modes of the "
+                                                                  "cyclic cut")
+    damping_ratio: float = Field(1e-3, ge=0.0, le=0.5, description="material damping "
+                                                                   "(003: 0.1 %)")
+    damping_band_hz: Annotated[list[Positive], Field(min_length=2, max_length=2)] = Field(
+        [40.0, 60.0], description="frequencies where the Rayleigh ratio is exact")
+    mu_static: float = Field(0.4, ge=0.0, le=10.0, description="mu_s of 003 (2)")
+    mu_sliding: float = Field(0.2, ge=0.0, le=10.0, description="mu_d of 003 (2)")
+    decay_s_per_m: float = Field(4.0, ge=0.0, le=1e6, description="DC of 003 (2)")
+    penalty_factor: Positive = Field(1.0, le=1e6, description="k_n = factor E A / h per "
+                                                              "node pair")
+    tangential_ratio: Positive = Field(1.0, le=1e3, description="k_t / k_n")
+    prestress_N: Positive = Field(2.4, le=1e6, description="normal force per contact at "
+                                                           "rest (003: 2.4 N)")
+
+    @model_validator(mode="after")
+    def _check_pipeline(self):
+        if self.mu_sliding > self.mu_static:
+            raise ValueError(f"mu_sliding ({self.mu_sliding}) must be <= mu_static "
+                             f"({self.mu_static})")
+        lo, hi = self.damping_band_hz
+        if hi <= lo:
+            raise ValueError(f"damping_band_hz must be increasing, got {self.damping_band_hz}")
+        return self
+
+
+class SolidWheelSpec(_PipelineSpec):
+    """``[model] type = "tieboss_wheel_solid"``: paper 003's wheel as tet10 solid sectors.
+
+    Geometry and mesh keys default to the tuned
+    :class:`~fricdamp.models.tieboss_solid.SolidWheelParameters` (same names)."""
+
+    mesh_size_m: Positive | None = Field(None, le=1.0, description="largest element size "
+                                                                   "(default: the tuned "
+                                                                   "mesh)")
+    contact_divisions: int | None = Field(None, ge=1, le=40, description="element edges "
+                                                                         "per contact-face "
+                                                                         "side")
+    n_blades: int | None = Field(None, ge=3, le=360, description="blades N")
+    disk_thickness_m: Positive | None = Field(None, le=1.0, description="disk thickness")
+    tipmass_density_kg_m3: Positive | None = Field(None, le=1e6, description="tip-mass "
+                                                                             "density")
+    young_modulus_Pa: Positive | None = Field(None, description="E (steel)")
+    poisson_ratio: float | None = Field(None, gt=-1.0, lt=0.5, description="nu")
+    density_kg_m3: Positive | None = Field(None, description="rho (steel)")
+
+
+class CyclicSectorSpec(_PipelineSpec):
+    """``[model] type = "cyclic_sector"``: a user's meshed sector (gmsh .msh, Abaqus .inp,
+    VTU, ... read with meshio) with named node sets."""
+
+    mesh: str = Field(..., min_length=1, description="mesh file, relative to the case file")
+    n_sectors: int = Field(..., ge=2, le=1000, description="sectors N of the wheel")
+    axis: Literal["x", "y", "z"] = Field("z", description="wheel axis")
+    youngs_modulus_Pa: Positive = Field(2.1e11, description="E")
+    poisson_ratio: float = Field(0.3, gt=-1.0, lt=0.5, description="nu")
+    density_kg_m3: Positive = Field(7850.0, description="rho")
+    element: Literal["tet4", "tet10", "hex8", "hex20"] | None = Field(
+        None, description="element (default: from the mesh's cells)")
+    probe_direction: Annotated[list[float], Field(min_length=3, max_length=3)] = Field(
+        ..., description="direction of the probe signal (e.g. the blade's flexural one)")
+    clamp: str = Field("clamp", description="node set: supported nodes")
+    cut_left: str = Field("cut_left", description="node set: left cyclic cut")
+    cut_right: str = Field("cut_right", description="node set: right cyclic cut (the left "
+                                                    "one rotated by 360/N deg)")
+    contact_left: str = Field("contact_left", description="node set: left contact face")
+    contact_right: str = Field("contact_right", description="node set: right contact face")
+    probe: str = Field("probe", description="node set: probe node (its first node)")
+    load: str | None = Field("load", description="node set: where the ND forces act")
+    materials: dict[str, dict[str, Positive]] = Field(
+        default_factory=dict, description="per cell set: {density = ..., youngs_modulus = "
+                                          "...} overrides")
+
+    @model_validator(mode="after")
+    def _check_dir(self):
+        if not np.any(np.asarray(self.probe_direction)):
+            raise ValueError("probe_direction must be a non-zero 3-vector")
+        return self
+
+
+# ================================================================================ model
+@dataclass(frozen=True, eq=False)
+class SolidWheelCaseModel(ModelObject):
+    """The model object of the solid wheel types: a WheelSector, its contact settings and
+    its reduction; the reduced wheel is built once, on first use."""
+
+    sector: Any
+    settings: Any
+    n_modes: int
+    n_interface_modes: int
+    solid: Any = None
+    paper: bool = False
+    kind: str = "tieboss_wheel_solid"
+    _cache: dict = field(default_factory=dict, repr=False)
+    MODEL_TYPE: ClassVar[str] = "tieboss_wheel_solid"
+    MODEL_DESCRIPTION: ClassVar[str] = "a wheel of solid FE sectors with contact patches"
+    MODEL_ANALYSES: ClassVar[str] = _ANALYSES
+
+    @property
+    def n_blades(self) -> int:
+        return int(self.sector.cyclic.n_sectors)
+
+    @property
+    def max_nd(self) -> int:
+        return self.n_blades // 2
+
+    @property
+    def n_dof(self) -> int:
+        return int(self.sector.info.get("wheel_dof", 0))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return ()
+
+    def wheel(self):
+        """The reduced wheel (:class:`~fricdamp.models.contact_wheel.ContactWheel`)."""
+        if "wheel" not in self._cache:
+            from fricdamp.models.contact_wheel import build_contact_wheel
+
+            self._cache["wheel"] = build_contact_wheel(
+                self.sector, n_modes=self.n_modes, n_interface_modes=self.n_interface_modes)
+        return self._cache["wheel"]
+
+    def offset(self, settings=None) -> tuple[float, float]:
+        """(interference offset [m], mean normal force per contact at rest [N])."""
+        s = self.settings if settings is None else settings
+        key = ("offset", s.penalty_factor, s.tangential_ratio, s.prestress_N, s.mu_static,
+               s.mu_sliding)
+        if key not in self._cache:
+            w = self.wheel()
+            off, rest = w.calibrate_offset(s)
+            self._cache[key] = (off, float(np.mean(w.normal_force_per_contact(rest))))
+        return self._cache[key]
+
+    def describe(self) -> dict:
+        w = self.wheel()
+        off, fn = self.offset()
+        info = dict(self.sector.info)
+        a, b = self.sector.rayleigh
+        out = {"type": self.kind, "element_type": info.get("element_type"),
+               "n_elements_sector": info.get("n_elements_sector"),
+               "sector_dof": info.get("sector_dof"), "wheel_dof": info.get("wheel_dof"),
+               "reduced_dof": int(w.reduced_dof),
+               "contact_pairs_per_tieboss": int(self.sector.patch.n_pairs),
+               "prestress_normal_force_N": fn, "penalty_factor": self.settings.penalty_factor,
+               "contact_offset_m": off, "n_blades": self.n_blades,
+               "n_modes": self.n_modes, "n_interface_modes": self.n_interface_modes,
+               "contact_rows": int(w.basis.n_contacts * 3),
+               "rayleigh_alpha_per_s": a, "rayleigh_beta_s": b,
+               "reduction_timings_s": {k: float(v) for k, v in w.reduced.timings.items()}}
+        out.update({k: v for k, v in info.items() if k not in out})
+        return out
+
+
+def _settings(spec: _PipelineSpec):
+    from fricdamp.models.contact_wheel import ContactSettings
+
+    return ContactSettings(mu_static=spec.mu_static, mu_sliding=spec.mu_sliding,
+                           decay_s_per_m=spec.decay_s_per_m,
+                           penalty_factor=spec.penalty_factor,
+                           tangential_ratio=spec.tangential_ratio,
+                           prestress_N=spec.prestress_N)
+
+
+def paper_wheel_sector(params=None, *, rayleigh=(0.0, 0.0)):
+    """(WheelSector, SolidModel) of the parametric paper-003 sector: gmsh mesh, tet10
+    assembly (tip-mass density from the parameters), faces paired, probe along the blade's
+    flexural direction."""
+    from fricdamp.models._tieboss_solid_geometry import blade_axes
+    from fricdamp.models.contact_wheel import sector_from_solid
+    from fricdamp.models.tieboss_solid import SolidWheelParameters, build_sector_mesh
+    from fricdamp.structure.solid import assemble_solid, mesh_from_meshio
+
+    p = SolidWheelParameters() if params is None else params
+    mesh = mesh_from_meshio(build_sector_mesh(p))
+    solid = assemble_solid(mesh, youngs_modulus=p.young_modulus_Pa,
+                           poisson_ratio=p.poisson_ratio, density=p.density_kg_m3,
+                           materials={"tipmass": {"density": p.tipmass_density_kg_m3}})
+    ws = sector_from_solid(solid, n_sectors=p.n_blades, youngs_modulus=p.young_modulus_Pa,
+                           probe_direction=blade_axes(p.blade_angle_deg)[1],
+                           rayleigh=rayleigh, info={"mesh_size_m": p.mesh_size_m})
+    return ws, solid
+
+
+def build_solid_wheel_case(spec: SolidWheelSpec, ctx: BuildContext) -> SolidWheelCaseModel:
+    """Builder of ``[model] type = "tieboss_wheel_solid"``."""
+    from dataclasses import replace
+
+    from fricdamp.models.contact_wheel import rayleigh_coefficients
+    from fricdamp.models.tieboss_solid import SolidWheelParameters
+
+    p = SolidWheelParameters()
+    changes = {k: getattr(spec, k) for k in ("mesh_size_m", "contact_divisions", "n_blades",
+                                             "disk_thickness_m", "tipmass_density_kg_m3",
+                                             "young_modulus_Pa", "poisson_ratio",
+                                             "density_kg_m3")
+               if getattr(spec, k) is not None}
+    p = replace(p, **changes)
+    ws, solid = paper_wheel_sector(
+        p, rayleigh=rayleigh_coefficients(spec.damping_ratio, spec.damping_band_hz))
+    return SolidWheelCaseModel(ws, _settings(spec), spec.n_modes, spec.n_interface_modes,
+                               solid=solid, paper=True, kind="tieboss_wheel_solid")
+
+
+def build_cyclic_sector_case(spec: CyclicSectorSpec, ctx: BuildContext) -> SolidWheelCaseModel:
+    """Builder of ``[model] type = "cyclic_sector"``: read, assemble, pair the faces."""
+    from fricdamp.models.contact_wheel import rayleigh_coefficients, sector_from_solid
+    from fricdamp.structure.solid import assemble_solid, read_mesh
+
+    path = Path(spec.mesh)
+    if not path.is_absolute():
+        path = Path(ctx.base_dir) / path
+    if not path.is_file():
+        raise CaseError(f"[model] mesh = {spec.mesh!r}: no such file ({path})")
+    mesh = read_mesh(path)
+    mats = {k: {("youngs_modulus" if kk.startswith("young") else kk): vv
+                for kk, vv in v.items()} for k, v in spec.materials.items()}
+    solid = assemble_solid(mesh, youngs_modulus=spec.youngs_modulus_Pa,
+                           poisson_ratio=spec.poisson_ratio, density=spec.density_kg_m3,
+                           element=spec.element, materials=mats or None)
+    ws = sector_from_solid(
+        solid, n_sectors=spec.n_sectors, youngs_modulus=spec.youngs_modulus_Pa,
+        probe_direction=spec.probe_direction,
+        rayleigh=rayleigh_coefficients(spec.damping_ratio, spec.damping_band_hz),
+        axis=spec.axis, clamp=spec.clamp, cut_left=spec.cut_left, cut_right=spec.cut_right,
+        contact_left=spec.contact_left, contact_right=spec.contact_right, probe=spec.probe,
+        load=spec.load, info={"mesh_file": str(spec.mesh)})
+    return SolidWheelCaseModel(ws, _settings(spec), spec.n_modes, spec.n_interface_modes,
+                               solid=solid, paper=False, kind="cyclic_sector")
+
+
+def is_solid(model) -> bool:
+    return isinstance(model, SolidWheelCaseModel)
+
+
+# ================================================================================ modal
+def run_solid_modal(model: SolidWheelCaseModel, spec, ctx: RunContext) -> AnalysisOutput:
+    """Frequencies by ND of the unreduced sector, Table 1, the reduced wheel beside them."""
+    import xarray as xr
+
+    from fricdamp.analyses._tieboss_figures import _modal_figures
+    from fricdamp.models.tieboss_analyses import modal_by_nd
+
+    m = modal_by_nd(cyclic=model.sector.cyclic, n_modes=spec.n_modes)
+    if not (model.paper and model.n_blades == 30):
+        m.pop("table1", None)
+        m.pop("max_table1_error", None)
+    w = model.wheel()
+    red = []
+    for nd in m["nd"]:
+        idx = np.flatnonzero(np.asarray(w.modes.nd) == nd)
+        red.append(float(w.modes.omega[idx].min() / (2 * np.pi)))
+    f = np.asarray(m["frequency_hz"])
+    err = np.abs(np.asarray(red) / f - 1.0)
+    summary = {"nd": m["nd"], "frequency_hz": m["frequency_hz"], "n_modes": spec.n_modes,
+               "families_hz": m["families_hz"], "reduced_frequency_hz": red,
+               "reduction_max_error": float(err.max()),
+               "method": "unreduced sector, cyclic constraint, sparse shift-invert"}
+    notes = []
+    if "table1" in m:
+        summary["table1"] = m["table1"]
+        summary["max_table1_error"] = m["max_table1_error"]
+        if m["max_table1_error"] > 0.01:
+            notes.append(f"the first family is {100 * m['max_table1_error']:.3g} % off 003 "
+                         "Table 1 (the default mesh is tuned to within 1 %)")
+    if err.max() > 1e-3:
+        notes.append(f"the reduced wheel's first family is up to {100 * err.max():.2g} % off "
+                     "the unreduced sector's: raise n_interface_modes or n_modes")
+    F = np.asarray(m["families_hz"])
+    arrays = {"frequencies": xr.Dataset(
+        {"frequency": (("nd", "mode"), F, {"units": "Hz"}),
+         "reduced_frequency": (("nd",), np.asarray(red), {"units": "Hz"})},
+        coords={"nd": ("nd", np.asarray(m["nd"])),
+                "mode": ("mode", np.arange(1, F.shape[1] + 1))})}
+    headline = (f"ND 0-{model.max_nd}: first family {f.min():.4g}-{f.max():.4g} Hz (open "
+                f"contacts, {model.sector.info.get('sector_dof')} sector DOFs)")
+    if "max_table1_error" in summary:
+        headline += f"; Table 1 within {100 * summary['max_table1_error']:.2g} %"
+    headline += f"; reduced wheel within {100 * err.max():.2g} %"
+
+    def figures():
+        return _modal_figures(summary) + _mesh_figure(model)
+
+    return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
+                          notes=notes)
+
+
+def _mesh_figure(model: SolidWheelCaseModel) -> list:
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    solid = model.solid
+    if solid is None:
+        return []
+    fig = Figure(figsize=(11.0, 5.0), layout="constrained")
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    facets = solid.boundary_facets
+    corners = facets[:, :3] if facets.shape[1] in (3, 6) else facets[:, :4]
+    tri = solid.points[corners]
+    ax.add_collection3d(Poly3DCollection(tri, facecolor="0.75", edgecolor="0.25",
+                                         linewidth=0.1))
+    for name, color in (("contact_left", "C3"), ("contact_right", "C3"), ("cut_left", "C0"),
+                        ("cut_right", "C0"), ("clamp", "k")):
+        nodes = solid.node_sets.get(name)
+        if nodes is not None and len(nodes):
+            x = solid.points[nodes]
+            ax.scatter(x[:, 0], x[:, 1], x[:, 2], s=1.5, color=color)
+    lo, hi = solid.points.min(axis=0), solid.points.max(axis=0)
+    c, r = 0.5 * (lo + hi), 0.5 * (hi - lo).max()
+    ax.set(xlim=(c[0] - r, c[0] + r), ylim=(c[1] - r, c[1] + r), zlim=(c[2] - r, c[2] + r),
+           xlabel="x [m]", ylabel="y [m]", zlabel="z [m]")
+    info = model.sector.info
+    ax.set_title(f"one sector: {info.get('n_elements_sector')} {info.get('element_type')} "
+                 f"elements, {info.get('sector_dof')} DOFs (red: contact faces, blue: cuts)",
+                 fontsize="small")
+    ax2 = fig.add_subplot(1, 2, 2)
+    N = model.n_blades
+    for j in range(N):
+        a = 2 * np.pi * j / N
+        Rz = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+        xy = solid.points[corners[::7, 0], :2] @ Rz.T
+        ax2.plot(xy[:, 0], xy[:, 1], ",", color="C0" if j else "C3")
+    ax2.set_aspect("equal")
+    ax2.set(xlabel="x [m]", ylabel="y [m]")
+    ax2.set_title(f"the wheel: {N} sectors, {info.get('wheel_dof')} DOFs (sector 0 red)",
+                  fontsize="small")
+    return [("mesh.png", "The solid sector mesh (contact faces and cyclic cuts marked) and "
+             "the wheel of its rotated copies", fig)]
+
+
+# ================================================================================ decay
+def _decay_entry(run, model) -> dict:
+    from fricdamp.analyses._tieboss_spec import PAPER_DAMPING_RATIO
+
+    e = run.summary()
+    e["paper_damping_ratio"] = (PAPER_DAMPING_RATIO.get(run.nd) if model.paper
+                                and model.n_blades == 30 else None)
+    if run.decay is not None:
+        env = run.decay.envelope
+        e["envelope_time_s"] = env.time.tolist()
+        e["envelope_m"] = env.amplitude.tolist()
+    else:
+        e["frequency_hz"] = None
+    return e
+
+
+def _decays(model, spec, settings, offset, ctx):
+    w = model.wheel()
+    method = ctx.solver.method
+    runs = []
+    for nd in spec.nodal_diameters:
+        runs.append(w.free_decay(nd, amplitude_m=spec.amplitude_m, duration_s=spec.duration_s,
+                                 dt=spec.time_step_s, settings=settings, offset=offset,
+                                 forcing=spec.forcing, save_every=spec.save_every,
+                                 method=method, progress=ctx.progress))
+    return runs
+
+
+def run_solid_free_attenuation(model: SolidWheelCaseModel, spec,
+                               ctx: RunContext) -> AnalysisOutput:
+    """003's strategy on the reduced solid wheel for each ND (module docstring)."""
+    import xarray as xr
+
+    from fricdamp.analyses._tieboss_spec import PAPER_DAMPING_RATIO
+
+    off, fn = model.offset()
+    notes = []
+    if spec.n_modes != 10:
+        notes.append("[analysis.free_attenuation] n_modes is not used by the solid wheel (its "
+                     "reduction is set in [model])")
+    runs = _decays(model, spec, model.settings, off, ctx)
+    entries = [_decay_entry(r, model) for r in runs]
+    if spec.compare_modal_forcing:
+        other = "modal" if spec.forcing == "tieboss" else "tieboss"
+        w = model.wheel()
+        for e, r in zip(entries, runs, strict=True):
+            e[f"damping_ratio_{other}_forcing"] = w.free_decay(
+                r.nd, amplitude_m=spec.amplitude_m, duration_s=spec.duration_s,
+                dt=spec.time_step_s, settings=model.settings, offset=off, forcing=other,
+                save_every=spec.save_every, method=ctx.solver.method,
+                progress=ctx.progress).damping_ratio
+    for r in runs:
+        if r.decay is None:
+            notes.append(f"{r.nd}ND: too few envelope peaks for a damping ratio in "
+                         f"{spec.duration_s:g} s; lengthen duration_s")
+    ebe = max(r.energy_balance_error for r in runs)
+    if ebe > 1e-3:
+        notes.append(f"energy balance error {ebe:.2g}: reduce time_step_s")
+    summary = {
+        "nodal_diameters": list(spec.nodal_diameters),
+        "damping_ratio": {f"{r.nd}ND": r.damping_ratio for r in runs},
+        "frequency_hz": {f"{e['nd']}ND": e["frequency_hz"] for e in entries},
+        "reduced_dof": model.wheel().reduced_dof, "contact_pairs": int(
+            model.wheel().basis.n_contacts), "forcing": spec.forcing,
+        "method": ctx.solver.method, "energy_balance_error": float(ebe),
+        "prestress_normal_force_N": fn, "contact_offset_m": off,
+        "transient_runtime_s": float(sum(r.runtime_s for r in runs)),
+        "transient_cpu_s": float(sum(r.cpu_s for r in runs)),
+    }
+    if model.paper and model.n_blades == 30:
+        summary["paper_damping_ratio"] = {f"{k}ND": v for k, v in PAPER_DAMPING_RATIO.items()}
+    n = min(r.t.size for r in runs)
+    arrays = {"decay": xr.Dataset(
+        {"probe": (("nd", "time"), np.stack([r.signal[:n] for r in runs]), {"units": "m"}),
+         "blades": (("nd", "time", "blade"), np.stack([r.blades[:n] for r in runs]),
+                    {"units": "m"}),
+         "contact_status": (("nd", "time", "contact", "pair"),
+                            np.stack([r.status[:n] for r in runs]),
+                            {"meaning": "0 open, 1 stick, 2 slip"})},
+        coords={"nd": ("nd", np.asarray(spec.nodal_diameters)),
+                "time": ("time", runs[0].t[:n], {"units": "s"})})}
+    headline = ", ".join(
+        f"{r.nd}ND: zeta {100 * r.damping_ratio:.3g} %"
+        + (f" (paper {100 * PAPER_DAMPING_RATIO[r.nd]:.2g} %)"
+           if model.paper and r.nd in PAPER_DAMPING_RATIO else "") for r in runs) \
+        + (f" from {1e3 * spec.amplitude_m:.3g} mm over {spec.duration_s:g} s; "
+           f"{summary['contact_pairs']} node pairs, {summary['reduced_dof']} reduced DOFs; "
+           f"transients {summary['transient_runtime_s']:.3g} s")
+
+    def figures():
+        return _decay_figures(runs, model)
+
+    return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
+                          notes=notes, top_level={"decay": entries})
+
+
+def _status_instants(run) -> list[int]:
+    """Saved instants for the status maps: the start, the largest slip fraction in the first
+    and in the last third of the record."""
+    frac = np.mean(run.status[:, :2] == 2, axis=(1, 2))
+    n = frac.size
+    first = int(np.argmax(frac[: max(n // 3, 1)]))
+    last = int(n - n // 3 + np.argmax(frac[n - n // 3:])) if n >= 3 else n - 1
+    return sorted({min(1, n - 1), first, last})
+
+
+def _decay_figures(runs, model) -> list:
+    from matplotlib.lines import Line2D
+
+    from fricdamp import plot
+
+    figs = []
+    fig, axes = plot.new_figure(len(runs), 1, width=8.0, height=3.0,
+                                title="Free attenuation of the solid wheel (003 section 3)")
+    for ax, r in zip(axes[:, 0], runs, strict=True):
+        ax.plot(r.t, 1e3 * r.signal, lw=0.6, color="C0", label="probe, blade 0")
+        if r.decay is not None:
+            env = r.decay.envelope
+            ax.plot(env.time, 1e3 * env.amplitude, "o", ms=3, color="C3", label="envelope")
+        ax.set_ylabel("displacement [mm]")
+        ax.set_title(f"{r.nd}ND: zeta = {100 * r.damping_ratio:.3g} %", fontsize="small")
+        ax.legend(fontsize="small", loc="upper right")
+    axes[-1, 0].set_xlabel("time [s]")
+    figs.append(("decay.png", "Probe displacement of blade 0 and its envelope for each ND "
+                 "(damping ratio from the logarithmic decrement)", fig))
+    xy = model.sector.patch.face_coordinates() * 1e3
+    for r in runs:
+        inst = _status_instants(r)
+        fig, axes = plot.new_figure(2, len(inst), width=3.2 * len(inst) + 1.0, height=3.0,
+                                    title=f"Contact status over the faces, {r.nd}ND "
+                                          "(003 Figs 17-18)")
+        N = r.status.shape[1]
+        for col, i in enumerate(inst):
+            for row, (c, name) in enumerate(((0, "B (blades 0 | 1)"),
+                                             (N - 1, f"A (blades {N - 1} | 0)"))):
+                ax = axes[row, col]
+                st = r.status[i, c]
+                ax.scatter(xy[:, 0], xy[:, 1], c=[STATE_COLORS[s] for s in st], s=40,
+                           edgecolors="k", linewidths=0.3)
+                ax.set_aspect("equal")
+                ax.set_title(f"contact {name}, t = {1e3 * r.t[i]:.2f} ms", fontsize="x-small")
+                ax.set_xlabel("t1 (radial) [mm]", fontsize="x-small")
+                ax.set_ylabel("t2 [mm]", fontsize="x-small")
+        handles = [Line2D([], [], marker="o", ls="", color=c, label=lab)
+                   for c, lab in zip(STATE_COLORS, ("open", "stick", "slip"), strict=True)]
+        fig.legend(handles=handles, loc="lower center", ncol=3, fontsize="small")
+        figs.append((f"contact_status_{r.nd}nd.png", f"{r.nd}ND: state of every node pair of "
+                     "contacts A and B at chosen instants (grey open, blue stick, red slip)",
+                     fig))
+    return figs
+
+
+# ================================================================================ penalty
+class PenaltyConvergenceAnalysis(Section):
+    """``[analysis.penalty_convergence]``: damping against the penalty factor at the same
+    prestress (the offset is re-calibrated for each factor)."""
+
+    penalty_factors: list[Positive] = Field([1.0, 10.0, 100.0], min_length=3, max_length=10,
+                                            description="factors of k_n = factor E A / h")
+    nodal_diameters: list[Annotated[int, Field(ge=0, le=1000)]] = Field(
+        [2, 6], min_length=1, max_length=4, description="NDs of the decays")
+    amplitude_m: Positive = Field(5e-4, le=0.01, description="initial probe displacement")
+    duration_s: Positive = Field(0.1, le=10.0, description="length of each attenuation")
+    time_step_s: Positive = Field(2e-5, le=1e-3, description="time step")
+    save_every: int = Field(2, ge=1, le=1000, description="store every k-th step")
+    forcing: Literal["tieboss", "modal"] = Field("tieboss", description="ND forces")
+
+    @model_validator(mode="after")
+    def _check(self):
+        f = self.penalty_factors
+        if sorted(f) != f or len(set(f)) != len(f):
+            raise ValueError(f"penalty_factors must be increasing, got {f}")
+        if f[-1] / f[0] < 100.0 * (1 - 1e-12):
+            raise ValueError(f"penalty_factors must span at least 100x, got {f}")
+        return self
+
+
+def _check_penalty(model, spec) -> None:
+    if not is_solid(model):
+        raise CaseError("[analysis.penalty_convergence] needs [model] type = "
+                        "'tieboss_wheel_solid' or 'cyclic_sector'")
+    bad = [nd for nd in spec.nodal_diameters if nd > model.max_nd]
+    if bad:
+        raise CaseError(f"nodal_diameters = {spec.nodal_diameters}: ND {bad[0]} does not "
+                        f"exist; the wheel has nodal diameters 0 to {model.max_nd}")
+
+
+def run_penalty_convergence(model: SolidWheelCaseModel, spec: PenaltyConvergenceAnalysis,
+                            ctx: RunContext) -> AnalysisOutput:
+    """Decays for each penalty factor at the same prestress (module docstring)."""
+    zeta = {nd: [] for nd in spec.nodal_diameters}
+    offsets, forces = [], []
+    for fac in spec.penalty_factors:
+        s = model.settings.with_(penalty_factor=float(fac))
+        off, fn = model.offset(s)
+        offsets.append(off)
+        forces.append(fn)
+        for r in _decays(model, spec, s, off, ctx):
+            zeta[r.nd].append(r.damping_ratio)
+    summary = {"penalty_factor": list(spec.penalty_factors), "offset_m": offsets,
+               "prestress_normal_force_N": forces}
+    rel = {}
+    for nd, z in zeta.items():
+        summary[f"damping_ratio_{nd}nd"] = z
+        rel[nd] = abs(z[-1] / z[-2] - 1.0) if z[-2] else float("inf")
+    summary["relative_change_last"] = {f"{nd}ND": v for nd, v in rel.items()}
+    summary["converged"] = bool(all(v <= 0.05 for v in rel.values()))
+    notes = [] if summary["converged"] else [
+        "the damping still moves by more than 5 % between the two largest penalty factors"]
+    headline = "; ".join(
+        f"{nd}ND zeta " + " / ".join(f"{100 * v:.3g}" for v in z) + " %"
+        for nd, z in zeta.items()) + " at penalty factors " + " / ".join(
+        f"{f:g}" for f in spec.penalty_factors)
+
+    def figures():
+        from fricdamp import plot
+
+        fig, axes = plot.new_figure(1, 1, width=6.0, height=3.8,
+                                    title="Damping against the contact penalty (same "
+                                          "prestress)")
+        ax = axes[0, 0]
+        for nd, z in zeta.items():
+            ax.semilogx(spec.penalty_factors, 100 * np.asarray(z), "o-", label=f"{nd}ND")
+        ax.set_xlabel("penalty factor (k_n = factor E A / h)")
+        ax.set_ylabel("damping ratio [%]")
+        ax.legend(fontsize="small")
+        return [("penalty_convergence.png", "Damping ratio by ND against the penalty factor "
+                 "at the same 2.4 N prestress", fig)]
+
+    return AnalysisOutput(summary=summary, arrays={}, figures=figures, headline=headline,
+                          notes=notes)
+
+
+# ================================================================================ registry
+register_model("tieboss_wheel_solid", SolidWheelSpec, build_solid_wheel_case,
+               description="paper 003's wheel as solid tet10 sectors with contact patches")
+register_model("cyclic_sector", CyclicSectorSpec, build_cyclic_sector_case,
+               description="a user's meshed cyclic sector with contact faces")
+register_analysis("penalty_convergence", PenaltyConvergenceAnalysis, run_penalty_convergence,
+                  check=_check_penalty,
+                  description="damping of the solid wheel against the contact penalty factor")
