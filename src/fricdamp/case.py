@@ -35,6 +35,7 @@ __all__ = [
     "ChainModel",
     "Contact3DContact",
     "CoulombContact",
+    "CubicSpringContact",
     "ForcedResponse",
     "FreeDecay",
     "Hysteresis",
@@ -196,6 +197,13 @@ class CoulombContact(Attachment):
             raise ValueError(f"mu_sliding ({self.mu_sliding:g}) must be <= mu_static "
                              f"({self.mu_static:g})")
         return self
+
+
+class CubicSpringContact(Attachment):
+    """``[[contacts]] type = "cubic_spring"``: cubic spring f = k3 u^3 (the Duffing
+    nonlinearity), conservative and memoryless."""
+
+    k3_N_per_m3: float = Field(description="cubic stiffness k3 (> 0 hardening, < 0 softening)")
 
 
 DirectionDofs = Annotated[list[DofNumber], Field(min_length=1, max_length=2)]

@@ -41,6 +41,7 @@ from fricdamp.case import (
     ChainModel,
     Contact3DContact,
     CoulombContact,
+    CubicSpringContact,
     JenkinsContact,
     MatricesModel,
     SolverSettings,
@@ -680,6 +681,15 @@ def _build_coulomb(spec: CoulombContact, ctx: BuildContext):
     return ContactElement(law, P, name=spec.name or ctx.name)
 
 
+def _build_cubic_spring(spec: CubicSpringContact, ctx: BuildContext):
+    from fricdamp.contact.cubic import CubicSpring
+    from fricdamp.structure import ContactElement
+
+    P = attachment_projection(spec, ctx.n_dof)
+    law = CubicSpring(spec.k3_N_per_m3, n_contacts=P.shape[0])
+    return ContactElement(law, P, name=spec.name or ctx.name)
+
+
 def _direction_row(dofs: list[int], n_dof: int, key: str) -> np.ndarray:
     bad = [d for d in dofs if d > n_dof]
     if bad:
@@ -719,6 +729,8 @@ register_contact("jenkins", JenkinsContact, _build_jenkins,
                  description="spring in series with a Coulomb slider (1D)")
 register_contact("coulomb", CoulombContact, _build_coulomb,
                  description="penalty spring and slider with static/kinetic mu(v) (1D)")
+register_contact("cubic_spring", CubicSpringContact, _build_cubic_spring,
+                 description="cubic spring f = k3 u^3, the Duffing nonlinearity (1D)")
 register_contact("contact3d", Contact3DContact, _build_contact3d,
                  description="unilateral normal penalty with 2D friction (3 directions)")
 

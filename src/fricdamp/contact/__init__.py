@@ -8,6 +8,7 @@ event-driven integration and the AFT step of harmonic balance.
 
 from fricdamp.contact.base import ContactLaw, LawStep
 from fricdamp.contact.coulomb import Coulomb, ForceSet, coulomb_force_set, friction_coefficient
+from fricdamp.contact.cubic import CubicSpring
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.contact.iwan import Iwan
 from fricdamp.contact.jenkins import Jenkins
@@ -40,6 +41,7 @@ __all__ = [
     "Contact3D",
     "ContactLaw",
     "Coulomb",
+    "CubicSpring",
     "ForceSet",
     "Iwan",
     "Jenkins",
