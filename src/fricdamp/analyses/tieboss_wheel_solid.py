@@ -542,7 +542,7 @@ def _decay_figures(runs, model) -> list:
                 ax.set_ylabel("t2 [mm]", fontsize="x-small")
         handles = [Line2D([], [], marker="o", ls="", color=c, label=lab)
                    for c, lab in zip(STATE_COLORS, ("open", "stick", "slip"), strict=True)]
-        fig.legend(handles=handles, loc="lower center", ncol=3, fontsize="small")
+        fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize="small")
         figs.append((f"contact_status_{r.nd}nd.png", f"{r.nd}ND: state of every node pair of "
                      "contacts A and B at chosen instants (grey open, blue stick, red slip)",
                      fig))
