@@ -130,6 +130,9 @@ _OPTIONS = {
     "Mesh.SaveAll": 0,
     "Mesh.MeshSizeFromCurvature": 0,
     "Mesh.Optimize": 1,
+    # Netgen's optimiser removes the flat slivers of the one-layer blade mesh: without it
+    # the default mesh is 0.3 % stiffer than a 3x finer one, with it 0.1 %
+    "Mesh.OptimizeNetgen": 1,
 }
 
 
