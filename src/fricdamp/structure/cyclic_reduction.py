@@ -176,11 +176,18 @@ def _fixed_interface_modes(lu, Kii, Mii, n_modes: int, method: str):
         return eigenpairs(Kii, Mii, n_modes, method="dense")
     from threadpoolctl import threadpool_limits
 
-    op = spla.LinearOperator((n_i, n_i), matvec=lu.solve, matmat=lu.solve, dtype=float)
+    # ARPACK keeps its operator in a reference cycle: reach the factorisation through a box
+    # emptied afterwards, so it is freed with the reduction, not at the next collection
+    box = [lu.solve]
+    op = spla.LinearOperator((n_i, n_i), matvec=lambda b: box[0](b),
+                             matmat=lambda b: box[0](b), dtype=float)
     v0 = np.random.default_rng(12345).standard_normal(n_i)
-    with threadpool_limits(limits=1, user_api="blas"):
-        lam, X = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM", OPinv=op, v0=v0,
-                            ncv=min(n_i, max(2 * n_modes + 1, 20)), tol=0.0)
+    try:
+        with threadpool_limits(limits=1, user_api="blas"):
+            lam, X = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM", OPinv=op,
+                                v0=v0, ncv=min(n_i, max(2 * n_modes + 1, 20)), tol=0.0)
+    finally:
+        box.clear()
     order = np.argsort(lam)
     lam, X = lam[order], X[:, order]
     X = X / np.sqrt(np.einsum("ij,ij->j", X, Mii @ X))

@@ -179,12 +179,20 @@ def _eigenpairs(K, M, n_modes, shift, method):
         bump *= 10.0
         solve = _factor(Ks - sigma * Ms, sparse=sparse)
     dtype = np.result_type(Ks.dtype, Ms.dtype)
-    op = spla.LinearOperator((n, n), matvec=solve, dtype=dtype)
+    # ARPACK's objects hold the operator in a reference cycle, which would keep the
+    # factorisation (GBs for a 10^4-10^5-DOF sector) alive until the next garbage
+    # collection: reach it through a box emptied after the solve
+    box = [solve]
+    op = spla.LinearOperator((n, n), matvec=lambda b: box[0](b), dtype=dtype)
     rng = np.random.default_rng(12345)
     v0 = rng.standard_normal(n).astype(dtype)
     ncv = min(n, max(2 * n_modes + 1, 20))
-    lam, X = spla.eigsh(Ks, k=n_modes, M=Ms, sigma=sigma, which="LM", OPinv=op, v0=v0,
-                        ncv=ncv, tol=0.0)
+    try:
+        lam, X = spla.eigsh(Ks, k=n_modes, M=Ms, sigma=sigma, which="LM", OPinv=op, v0=v0,
+                            ncv=ncv, tol=0.0)
+    finally:
+        box.clear()
+        del solve
     order = np.argsort(lam)
     lam, X = lam[order], X[:, order]
     # re-normalise (ARPACK returns M-orthonormal vectors up to round-off)
