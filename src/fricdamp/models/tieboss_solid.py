@@ -17,9 +17,10 @@ Geometry (SI; wheel axis z; sector 0 centred on +x; ``alpha = 2 pi / N``, ``h = 
 * **blade**: a plate from ``root_radius_m`` to ``tip_radius_m``, ``blade_width_m`` x
   ``blade_thickness_m``, whose plane contains the radial x-axis at ``blade_angle_deg`` to the
   wheel plane: chord ``c = (0, cos b, -sin b)``, flexural direction (normal to the blade,
-  the plane alpha_0 of 003) ``d = (0, sin b, cos b)``, the convention of the beam model
-  (the brief's chord ``(0, cos b, sin b)`` would put the flexural motion *normal* to the
-  contact planes, against "to allow the blade to move freely during flexural vibrations").
+  the plane alpha_0 of 003) ``d = (0, sin b, cos b)``, the convention of the beam model:
+  the flexural motion then lies in the contact planes, "to allow the blade to move freely
+  during flexural vibrations" (003 section 1.1); the mirror chord ``(0, cos b, sin b)``
+  would make it normal to them.
 * **tie-boss** at ``tieboss_radius_m`` (003: 0.44 m): a boss around the blade (a box
   ``boss_radial_m`` x ``boss_width_m`` (chord) x ``boss_thickness_m`` (along d), the nuts of
   the suspension bolt) and two shoulders. The right contact face ``F_R`` is a square of side
@@ -50,13 +51,13 @@ the paper reads its contact nodes, N165136 etc., "in the midst of each contact s
 of each blade" where 003 section 3 applies its modal forces).
 
 Mesh: tet10 with straight edges (``Mesh.SecondOrderLinear``: mid-side nodes at the edge
-midpoints), global size ``mesh_size_m``, size ``contact_mesh_size_m`` at the contact faces.
+midpoints), global size ``mesh_size_m``, Netgen-optimised (no flat slivers in the blade).
 The right cut and contact faces are meshed as the left ones rotated by ``alpha``
 (``gmsh.model.mesh.setPeriodic``), checked node by node after meshing. The contact faces
 are structured (``contact_divisions`` cells per side: 49 nodes per face by default) so
 that their centres are nodes. Default (6 mm): 7,600 tet10, 41,800 DOFs per clamped sector
-(paper 003: 89,000 hexahedra for the wheel, ~3,000 per sector); ``mesh_size_m = 0.004``
-gives ~100,000 DOFs.
+(paper 003: 89,000 hexahedra for the wheel, ~3,000 per sector); ``mesh_size_m = 0.0037``
+gives 110,000 DOFs.
 
 Model and tuning
 ----------------
@@ -91,7 +92,7 @@ ND    model [Hz]  003 [Hz]    error
 
 The family rises monotonically with ND, as in the paper (the disk's out-of-plane stiffness
 grows with ND). Mesh convergence: the coarse 12 mm mesh is 0.35-0.41 % stiffer than the
-default, a 4.5 mm mesh (72,000 DOFs) 0.07-0.08 % softer. Checked by
+default, a 3.7 mm mesh (110,000 DOFs) 0.17-0.19 % softer. Checked by
 ``tests/validation/test_tieboss_solid_modal.py``.
 """
 
@@ -311,26 +312,24 @@ _MATERIAL_FIELDS = ("tipmass_density_kg_m3", "young_modulus_Pa", "poisson_ratio"
 # ------------------------------------------------------------------------------ mesh
 @functools.lru_cache(maxsize=8)
 def _mesh_cached(key: SolidWheelParameters):
+    """(``.msh`` text, read-only SolidMesh) of a geometry, periodicity checked."""
     import meshio
+
+    from fricdamp.structure.solid import mesh_from_meshio
 
     msh = mesh_sector_msh(key)
     with tempfile.TemporaryDirectory(prefix="fricdamp_tieboss_") as tmp:
         path = os.path.join(tmp, "sector.msh")
         with open(path, "w", encoding="ascii") as fh:
             fh.write(msh.text)
-        mesh = meshio.read(path, file_format="gmsh")
+        mesh = mesh_from_meshio(meshio.read(path, file_format="gmsh"))
+    for right, left in (("cut_right", "cut_left"), ("contact_right", "contact_left")):
+        match_periodic_nodes(mesh.points, mesh.point_sets[left], mesh.point_sets[right],
+                             key.sector_angle_rad)
+    for arr in (mesh.points, mesh.cells, *mesh.point_sets.values(),
+                *mesh.cell_sets.values()):
+        arr.flags.writeable = False          # shared by every caller of the cache
     return msh, mesh
-
-
-def _group_nodes(mesh, name: str) -> np.ndarray:
-    """Sorted node indices of the cells of the physical group ``name`` of a meshio mesh."""
-    sets = mesh.cell_sets.get(name)
-    if sets is None:
-        raise ModelError(f"the mesh has no group {name!r}; it has {sorted(mesh.cell_sets)}")
-    nodes = [np.asarray(block.data)[np.asarray(idx, dtype=np.int64)].ravel()
-             for block, idx in zip(mesh.cells, sets, strict=True)
-             if idx is not None and len(idx)]
-    return np.unique(np.concatenate(nodes)) if nodes else np.zeros(0, dtype=np.int64)
 
 
 def match_periodic_nodes(points, left, right, sector_angle: float, *,
@@ -377,42 +376,44 @@ def match_periodic_nodes(points, left, right, sector_angle: float, *,
 def build_sector_mesh(params: SolidWheelParameters | None = None, path=None):
     """Mesh one sector (tet10, periodic cut and contact faces) with gmsh.
 
-    Meshes are cached in-process per geometry (the material entries do not count), so a
-    second call with the same geometry costs only a copy.
+    Meshes are cached in-process per geometry (the material entries do not count): a
+    second call with the same geometry returns the same read-only mesh.
 
     Parameters
     ----------
     params : SolidWheelParameters, optional
         Geometry and mesh sizes (default: the tuned defaults).
     path : str or path-like, optional
-        Also write the mesh there (gmsh format 4.1, ASCII).
+        Also write the mesh there (gmsh format 4.1, ASCII; :func:`~fricdamp.structure.
+        solid.read_mesh` reads it back).
 
     Returns
     -------
-    meshio.Mesh
-        Points [m], ``tetra10`` cells of the volumes, ``triangle6`` cells of the surface
-        groups and ``vertex`` cells of the point groups; ``cell_sets`` keyed by the group
-        names (module docstring).
+    SolidMesh
+        ``tetra10`` cells (meshio node order), points [m]; ``point_sets`` for every group
+        (module docstring: the surface, volume and point groups), ``cell_sets`` for the
+        volumes ``steel`` and ``tipmass``.
 
     Raises
     ------
     ModelError
         If the parameters give an invalid geometry, gmsh fails or the periodic faces do not
         match node for node (1e-9 m).
-    """
-    import copy
 
+    Examples
+    --------
+    >>> mesh = build_sector_mesh(SolidWheelParameters(mesh_size_m=0.012))
+    >>> [mesh.point_sets[g].size for g in ("contact_left", "contact_right", "load")]
+    [49, 49, 2]
+    """
     p = SolidWheelParameters() if params is None else params
     if not isinstance(p, SolidWheelParameters):
         raise ModelError(f"params must be SolidWheelParameters, got {type(p).__name__}")
     msh, mesh = _mesh_cached(p.geometry_key())
-    for right, left in (("cut_right", "cut_left"), ("contact_right", "contact_left")):
-        match_periodic_nodes(mesh.points, _group_nodes(mesh, left), _group_nodes(mesh, right),
-                             p.sector_angle_rad)
     if path is not None:
         with open(path, "w", encoding="ascii") as fh:
             fh.write(msh.text)
-    return copy.deepcopy(mesh)
+    return mesh
 
 
 def contact_centres(params: SolidWheelParameters | None = None):
@@ -431,11 +432,10 @@ def assemble_sector_model(params: SolidWheelParameters | None = None, *,
     so that a new tip-mass density costs a sum of matrices
     (:meth:`~fricdamp.structure.solid.SolidModel.with_scaled_parts`), not an assembly.
     """
-    from fricdamp.structure.solid import assemble_solid, mesh_from_meshio
+    from fricdamp.structure.solid import assemble_solid
 
     p = SolidWheelParameters() if params is None else params
-    mesh = mesh_from_meshio(build_sector_mesh(p))
-    return assemble_solid(mesh, youngs_modulus=p.young_modulus_Pa,
+    return assemble_solid(build_sector_mesh(p), youngs_modulus=p.young_modulus_Pa,
                           poisson_ratio=p.poisson_ratio, density=p.density_kg_m3,
                           materials={"tipmass": {"density": p.tipmass_density_kg_m3}},
                           split_by_set=split_by_set)
