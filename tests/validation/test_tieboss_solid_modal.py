@@ -73,3 +73,15 @@ def test_coarse_mesh_shift_bound(coarse_frequencies, default_frequencies):
     """The coarse-mesh tolerance above is the observed mesh convergence."""
     shift = max(abs(coarse_frequencies[nd] / default_frequencies[nd] - 1.0) for nd in NDS)
     assert shift <= COARSE_MESH_SHIFT
+
+
+def test_tuning_the_tip_mass_hits_a_target():
+    """tune_solid_parameters on the coarse mesh: the tip-mass density alone (assembled
+    parts re-used) moves the 15 ND frequency onto 50.0 Hz."""
+    from fricdamp.models.tieboss_solid import tune_solid_parameters
+
+    tuned, report = tune_solid_parameters(COARSE, names=("tipmass_density_kg_m3",),
+                                          targets={15: 50.0}, max_evaluations=8)
+    assert report["model_hz"][0] == pytest.approx(50.0, rel=2e-3)
+    assert tuned.tipmass_density_kg_m3 > COARSE.tipmass_density_kg_m3   # 50.26 Hz before
+    assert tuned.disk_thickness_m == COARSE.disk_thickness_m
