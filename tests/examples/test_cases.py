@@ -177,8 +177,9 @@ def _load_check_modules() -> None:
 _load_check_modules()
 
 
-# cases with an event-driven design study: minutes, run in CI (pytest -m slow to run here)
-SLOW_CASES = {"blade_damper_pulloff"}
+# cases with an event-driven design study or a paper-density solid wheel: minutes, run in CI
+# (pytest -m slow to run here); the solid pipeline runs on a coarse mesh in tests/cli
+SLOW_CASES = {"blade_damper_pulloff", "tieboss_wheel_solid", "sector_import"}
 
 
 @pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.stem in SLOW_CASES
