@@ -231,31 +231,20 @@ def _settings(spec: _PipelineSpec):
                            prestress_N=spec.prestress_N)
 
 
-def paper_wheel_sector(params=None, *, rayleigh=(0.0, 0.0)):
-    """(WheelSector, SolidModel) of the parametric paper-003 sector: gmsh mesh, tet10
-    assembly (tip-mass density from the parameters), faces paired, probe along the blade's
-    flexural direction."""
-    from fricdamp.models._tieboss_solid_geometry import blade_axes
-    from fricdamp.models.contact_wheel import sector_from_solid
-    from fricdamp.models.tieboss_solid import SolidWheelParameters, build_sector_mesh
-    from fricdamp.structure.solid import assemble_solid, mesh_from_meshio
+def paper_wheel_sector(params=None):
+    """(WheelSector, SolidModel) of the parametric paper-003 sector
+    (:func:`~fricdamp.models.tieboss_solid.build_solid_sector`: gmsh mesh, tet10 assembly,
+    faces paired, probe along the blade's flexural direction)."""
+    from fricdamp.models.tieboss_solid import build_solid_sector
 
-    p = SolidWheelParameters() if params is None else params
-    mesh = mesh_from_meshio(build_sector_mesh(p))
-    solid = assemble_solid(mesh, youngs_modulus=p.young_modulus_Pa,
-                           poisson_ratio=p.poisson_ratio, density=p.density_kg_m3,
-                           materials={"tipmass": {"density": p.tipmass_density_kg_m3}})
-    ws = sector_from_solid(solid, n_sectors=p.n_blades, youngs_modulus=p.young_modulus_Pa,
-                           probe_direction=blade_axes(p.blade_angle_deg)[1],
-                           rayleigh=rayleigh, info={"mesh_size_m": p.mesh_size_m})
-    return ws, solid
+    sector = build_solid_sector(params)
+    return sector.wheel_sector, sector.model
 
 
 def build_solid_wheel_case(spec: SolidWheelSpec, ctx: BuildContext) -> SolidWheelCaseModel:
     """Builder of ``[model] type = "tieboss_wheel_solid"``."""
     from dataclasses import replace
 
-    from fricdamp.models.contact_wheel import rayleigh_coefficients
     from fricdamp.models.tieboss_solid import SolidWheelParameters
 
     p = SolidWheelParameters()
@@ -264,9 +253,9 @@ def build_solid_wheel_case(spec: SolidWheelSpec, ctx: BuildContext) -> SolidWhee
                                              "young_modulus_Pa", "poisson_ratio",
                                              "density_kg_m3")
                if getattr(spec, k) is not None}
-    p = replace(p, **changes)
-    ws, solid = paper_wheel_sector(
-        p, rayleigh=rayleigh_coefficients(spec.damping_ratio, spec.damping_band_hz))
+    changes.update(damping_ratio=spec.damping_ratio,
+                   damping_band_hz=tuple(spec.damping_band_hz))
+    ws, solid = paper_wheel_sector(replace(p, **changes))
     return SolidWheelCaseModel(ws, _settings(spec), spec.n_modes, spec.n_interface_modes,
                                solid=solid, paper=True, kind="tieboss_wheel_solid")
 
