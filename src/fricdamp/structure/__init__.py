@@ -20,7 +20,28 @@ from fricdamp.structure.system import (
     TimeLoad,
 )
 
+#: Names imported on first use (scikit-fem, meshio and gmsh load only when a solid is built).
+_LAZY = {
+    "SolidMesh": "fricdamp.structure.solid", "SolidModel": "fricdamp.structure.solid",
+    "assemble_solid": "fricdamp.structure.solid", "read_mesh": "fricdamp.structure.solid",
+    "mesh_from_meshio": "fricdamp.structure.solid", "box_mesh": "fricdamp.structure.solid",
+    "ContactPatch": "fricdamp.structure.contact_patch",
+    "patch_from_faces": "fricdamp.structure.contact_patch",
+    "reduce_sector": "fricdamp.structure.cyclic_reduction",
+    "wheel_modes": "fricdamp.structure.cyclic_reduction",
+}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'fricdamp.structure' has no attribute {name!r}")
+
+
 __all__ = [
+    *_LAZY,
     "cantilever_beam",
     "euler_bernoulli_matrices",
     "node_dof",
