@@ -734,6 +734,7 @@ class _Stepper:
         self.max_halvings = int(max_halvings)
         self.levels = {0: _Level(basis, con, dt, alpha, C0)}
         self.chord_ok = True
+        self.since_chord = 0
         self.n_iterations = self.n_newton = self.n_halved = 0
         self.last_residual = np.nan
 
@@ -779,8 +780,10 @@ class _Stepper:
         eta_lin = rhs * L.s_inv
         u_lin = rows.rows(eta_lin)
         un = u_lin - ap * C.apply(st.f)        # predictor: the contact forces unchanged
-        use_chord = self.use_chord and self.chord_ok   # the chord failed last step: skip it
-        self.chord_ok = True
+        # the chord (stuck, closed contacts) is tried again only every 64 steps after it
+        # failed: with opening and slipping contacts it wastes iterations
+        self.since_chord += 1
+        use_chord = self.use_chord and (self.chord_ok or self.since_chord >= 64)
         res_prev = np.inf
         converged = False
         for _it in range(self.max_iter + 1):
@@ -797,8 +800,12 @@ class _Stepper:
                 converged = True
                 break
             self.n_iterations += 1
+            if log.isEnabledFor(logging.DEBUG):
+                log.debug("h %.3g it %d res/scale %.3e chord %s states %s", L.h, _it,
+                          res / scale, use_chord, np.bincount(con.code, minlength=3).tolist())
             if use_chord and res > 0.25 * res_prev:
                 use_chord = self.chord_ok = False
+                self.since_chord = 0
             res_prev = res
             if use_chord:
                 un = un - L.chord(g)
@@ -820,6 +827,8 @@ class _Stepper:
                 lam_s *= 0.5
             un = trial
         self.last_residual = res
+        if use_chord:
+            self.chord_ok = True                       # the chord alone converged
         if not converged:
             return None
         new = _State()
