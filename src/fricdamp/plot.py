@@ -25,6 +25,7 @@ __all__ = [
     "loop_energy_vs_amplitude",
     "new_figure",
     "si_scale",
+    "stability_line",
     "time_histories",
 ]
 
@@ -223,3 +224,36 @@ def loop_energy_vs_amplitude(amplitude, energies: Mapping[str, np.ndarray],
     ax.set_ylabel(f"energy per cycle [{elab}]")
     ax.legend(loc="best", fontsize="small")
     return fig
+
+
+def stability_line(ax, x, y, stable, **kwargs):
+    """Plot a branch ``y(x)``: solid where stable, dashed where unstable, in one colour.
+
+    A segment between two points is solid only if both are stable. ``kwargs`` go to
+    ``ax.plot`` (``label`` to the first stable and first unstable piece only: "stable" /
+    "unstable" suffixes are added when the branch has both). Returns the list of lines.
+    """
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    ok = np.asarray(stable, bool)
+    if x.size < 2:
+        return ax.plot(x, y, **kwargs)
+    seg = ok[:-1] & ok[1:]
+    label = kwargs.pop("label", None)
+    color = kwargs.pop("color", kwargs.pop("c", None))
+    kwargs.pop("linestyle", None)
+    kwargs.pop("ls", None)
+    lines, start, seen = [], 0, set()
+    both = bool(seg.any() and (~seg).any())
+    for i in range(1, seg.size + 1):
+        if i == seg.size or seg[i] != seg[start]:
+            st = bool(seg[start])
+            lab = None
+            if label is not None and st not in seen:
+                lab = f"{label} ({'stable' if st else 'unstable'})" if both else label
+                seen.add(st)
+            (ln,) = ax.plot(x[start:i + 1], y[start:i + 1], linestyle="-" if st else "--",
+                            color=color, label=lab, **kwargs)
+            color = ln.get_color()
+            lines.append(ln)
+            start = i
+    return lines

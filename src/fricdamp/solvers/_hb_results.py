@@ -151,6 +151,55 @@ class SteadyState:
 
 
 @dataclass(frozen=True, eq=False)
+class Bifurcation:
+    """A bifurcation located on a harmonic-balance branch
+    (:mod:`fricdamp.solvers.hb_stability`).
+
+    Attributes
+    ----------
+    type : str
+        "fold" (turning point), "branch_point", "neimark_sacker" or "period_doubling".
+    omega : float
+        Excitation angular frequency [rad/s] at the bifurcation.
+    load_scale : float
+        Factor on the harmonic loads there (1 on a frequency response).
+    amplitude : ndarray, shape (n_dof,)
+        ``max_t |q(t) - mean|`` of each DOF [m].
+    coefficients : ndarray, shape (n_dof, 2H+1)
+        Harmonic coefficients of the solution at the bifurcation [m].
+    after_point : int
+        Index of the branch point after which it lies (between it and the next).
+    multiplier : complex
+        The critical Floquet multiplier there (on the unit circle up to the location
+        accuracy: +1 at folds and branch points, -1 at period doubling, e^{+-i theta} at
+        Neimark-Sacker points).
+    located : bool
+        Located by regula falsi to the corrector tolerance; False: the nearer of the two
+        bracketing points is reported.
+    """
+
+    type: str
+    omega: float
+    load_scale: float
+    amplitude: np.ndarray
+    coefficients: np.ndarray
+    after_point: int
+    multiplier: complex
+    located: bool
+
+    def as_dict(self, dof: int | None = None) -> dict:
+        """JSON-ready record; ``amplitude_m`` is that of ``dof`` if given, else per DOF."""
+        amp = (float(self.amplitude[dof]) if dof is not None
+               else [float(a) for a in self.amplitude])
+        return {"type": self.type, "omega_rad_s": float(self.omega),
+                "frequency_hz": float(self.omega / (2 * np.pi)), "amplitude_m": amp,
+                "load_scale": float(self.load_scale), "after_point": int(self.after_point),
+                "floquet_multiplier_abs": float(abs(self.multiplier)),
+                "floquet_multiplier_angle_rad": float(np.angle(self.multiplier)),
+                "located": bool(self.located)}
+
+
+@dataclass(frozen=True, eq=False)
 class FrequencyResponse:
     """Frequency response curve from :func:`frequency_response` (converged points only).
 
@@ -191,6 +240,18 @@ class FrequencyResponse:
         of :func:`load_response`).
     parameter : str
         The continued parameter: "omega" or "load".
+    stable : ndarray of bool, shape (n_points,), optional
+        Hill stability of each point (``stability=True`` only; else None).
+    floquet_exponents : ndarray, shape (n_points, 2 n_dof), complex, optional
+        Retained Floquet exponents [1/s] of each point, by decreasing real part.
+    bifurcations : tuple of Bifurcation
+        Folds, branch points, Neimark-Sacker and period-doubling points located along the
+        branch (``stability=True`` only).
+    stability_error : float
+        Largest change [1/s] of the retained exponents when the checked points are re-solved
+        with H + 1 harmonics (NaN without stability).
+    stability_converged : bool or None
+        The H + 1 check gives the same verdicts at the checked points.
     """
 
     omega: np.ndarray
@@ -217,6 +278,11 @@ class FrequencyResponse:
     contact_names: tuple[str, ...] = ()
     load_scale: np.ndarray | None = None
     parameter: str = "omega"
+    stable: np.ndarray | None = None
+    floquet_exponents: np.ndarray | None = None
+    bifurcations: tuple[Bifurcation, ...] = ()
+    stability_error: float = float("nan")
+    stability_converged: bool | None = None
 
     @property
     def success(self) -> bool:
@@ -289,21 +355,40 @@ class FrequencyResponse:
             attrs={"harmonics": H, "samples": self.samples, "status": self.status,
                    "message": self.message, "method": self.method},
         )
+        if self.stable is not None:
+            ds["stable"] = (("point",), self.stable.astype(np.int8),
+                            {"description": "1 stable, 0 unstable (Hill)"})
+            ds["floquet_exponent_real"] = (("point", "exponent"),
+                                           self.floquet_exponents.real, {"units": "1/s"})
+            ds["floquet_exponent_imag"] = (("point", "exponent"),
+                                           self.floquet_exponents.imag, {"units": "1/s"})
+            ds.attrs["stability_error_per_s"] = self.stability_error
         return ds
 
     def plot(self, dof: int = 0, ax=None, **kwargs):
-        """Amplitude of ``dof`` vs excitation frequency [Hz] (or load scale); returns axes."""
+        """Amplitude of ``dof`` vs excitation frequency [Hz] (or load scale); returns axes.
+
+        With stability computed, unstable parts are dashed and bifurcations circled."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots()
         name = self.dof_names[dof] if self.dof_names else f"q{dof + 1}"
         if self.parameter == "load":
-            ax.plot(self.load_scale, self.amplitude[:, dof], **kwargs)
+            x = self.load_scale
             ax.set_xlabel("load scale [-]")
         else:
-            ax.plot(self.omega / (2 * np.pi), self.amplitude[:, dof], **kwargs)
+            x = self.omega / (2 * np.pi)
             ax.set_xlabel("excitation frequency [Hz]")
+        if self.stable is None:
+            ax.plot(x, self.amplitude[:, dof], **kwargs)
+        else:
+            from fricdamp.plot import stability_line
+
+            stability_line(ax, x, self.amplitude[:, dof], self.stable, **kwargs)
+            for b in self.bifurcations:
+                bx = b.load_scale if self.parameter == "load" else b.omega / (2 * np.pi)
+                ax.plot(bx, b.amplitude[dof], "o", ms=4, mfc="none", color="k")
         ax.set_ylabel(f"amplitude of {name} [m]")
         if not self.success:
             ax.set_title(f"incomplete: {self.message}", fontsize="small")

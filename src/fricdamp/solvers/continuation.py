@@ -13,9 +13,18 @@ A failed corrector is retried with half the step; when the step falls below ``ds
 the run stops and the result says so (``status``, ``message``) and holds the points
 converged until then: a non-converged point is never returned as a solution.
 
+Test functions along the path: every point keeps its unit tangent (in the scaled variables),
+whose parameter component changes sign at a fold (turning point); with
+``test_functions=True`` the sign of the determinant of the bordered Jacobian
+``[[J_x, J_lam], [t^T]]`` is kept too: with the tangents oriented continuously it changes
+sign at a simple branch point and not at a fold (Seydel 2010, sec. 5.3; Allgower & Georg
+2003, ch. 8). :func:`locate_on_branch` finds the zero of any such test function between two
+points by regula falsi on the arclength, each trial point corrected back onto the path.
+
 References
 ----------
-Seydel (2010), *Practical Bifurcation and Stability Analysis*, Springer, ch. 4.
+Seydel (2010), *Practical Bifurcation and Stability Analysis*, Springer, ch. 4-5.
+Allgower & Georg (2003), *Introduction to Numerical Continuation Methods*, SIAM, ch. 8.
 Krack & Gross (2019), *Harmonic Balance for Nonlinear Vibration Problems*, ch. 4.
 """
 
@@ -37,7 +46,9 @@ from fricdamp.errors import ConvergenceError, ModelError
 __all__ = [
     "ContinuationResult",
     "NewtonResult",
+    "PathPoint",
     "blas_threads",
+    "locate_on_branch",
     "newton",
     "solve_and_continue",
 ]
@@ -103,6 +114,20 @@ class _Factor:
         except (RuntimeError, ValueError, np.linalg.LinAlgError):
             self.ok = False
 
+    def log_det(self) -> tuple[float, float]:
+        """(sign, log |det|) of the factorised matrix (sign 0 if singular)."""
+        if self.sparse:
+            d = self.lu.U.diagonal()
+            sign = _perm_sign(self.lu.perm_r) * _perm_sign(self.lu.perm_c)
+        else:
+            d = np.diagonal(self.lu[0])
+            piv = self.lu[1]
+            sign = -1.0 if np.count_nonzero(piv != np.arange(piv.size)) % 2 else 1.0
+        if not np.all(np.isfinite(d)) or np.any(d == 0):
+            return 0.0, -np.inf
+        sign *= -1.0 if np.count_nonzero(d < 0) % 2 else 1.0
+        return float(sign), float(np.sum(np.log(np.abs(d))))
+
     def solve(self, b):
         if not self.sparse:
             return sla.lu_solve(self.lu, b, check_finite=False)
@@ -116,6 +141,23 @@ class _Factor:
                 self.lu = spla.splu(self.A)
                 x = self.lu.solve(b)
         return x
+
+
+def _perm_sign(perm) -> float:
+    """Sign (+1 or -1) of a permutation given as an index array."""
+    perm = np.asarray(perm)
+    seen = np.zeros(perm.size, dtype=bool)
+    transpositions = 0
+    for i in range(perm.size):
+        if seen[i]:
+            continue
+        j, length = i, 0
+        while not seen[j]:
+            seen[j] = True
+            j = int(perm[j])
+            length += 1
+        transpositions += length - 1
+    return -1.0 if transpositions % 2 else 1.0
 
 
 class _Bordered:
@@ -287,6 +329,15 @@ class ContinuationResult:
     message : str
     n_evaluations, n_factorizations : int
         Residual evaluations and LU factorisations, in total.
+    tangents : ndarray, shape (n_points, n + 1), optional
+        Unit tangent at each point in the scaled variables ``(x / x_scale, lam /
+        lam_scale)``, oriented along the path; its last component changes sign at folds.
+    det_sign : ndarray, shape (n_points,), optional
+        Sign of the determinant of the bordered Jacobian ``[[J_x, J_lam], [t^T]]`` at each
+        point (only with ``test_functions=True``): it changes sign at simple branch points.
+    x_scale : ndarray, shape (n,), optional
+    lam_scale : float
+        The scaling of the path variables (for :func:`locate_on_branch`).
     """
 
     x: np.ndarray
@@ -297,6 +348,10 @@ class ContinuationResult:
     message: str
     n_evaluations: int
     n_factorizations: int
+    tangents: np.ndarray | None = None
+    det_sign: np.ndarray | None = None
+    x_scale: np.ndarray | None = None
+    lam_scale: float = 1.0
 
     @property
     def success(self) -> bool:
@@ -313,7 +368,8 @@ def solve_and_continue(x0, residual: Callable, lam_start: float, lam_end: float,
                        max_iter: int = 10, max_steps: int = 2000, target_iterations: int = 3,
                        max_angle_deg: float = 25.0, reversal_tolerance: float = 0.1,
                        start_max_iter: int = 100, callback: Callable | None = None,
-                       blas: int | None = 1, throw: bool = False) -> ContinuationResult:
+                       test_functions: bool = False, blas: int | None = 1,
+                       throw: bool = False) -> ContinuationResult:
     """Continue the solutions of ``residual(x, lam) = 0`` from ``lam_start`` to ``lam_end``.
 
     Parameters
@@ -350,6 +406,9 @@ def solve_and_continue(x0, residual: Callable, lam_start: float, lam_end: float,
         Newton iterations (with backtracking) allowed for the first point.
     callback : callable, optional
         ``callback(x, lam)`` after each accepted point; return True to stop (status 4).
+    test_functions : bool
+        Also record the sign of the determinant of the bordered Jacobian at each point
+        (``det_sign``, for branch points); costs one O(n) pass over each factorisation.
     blas : int or None
         BLAS threads during the run (default 1, see :func:`blas_threads`); None leaves the
         pools alone.
@@ -371,31 +430,21 @@ def solve_and_continue(x0, residual: Callable, lam_start: float, lam_end: float,
         out = _continue(np.array(x0, dtype=float), residual, float(lam_start), float(lam_end),
                         float(ds), ds_min, ds_max, x_scale, float(lam_scale), tol, max_iter,
                         max_steps, target_iterations, max_angle_deg, reversal_tolerance,
-                        start_max_iter, callback)
+                        start_max_iter, callback, bool(test_functions))
     if throw and not out.success:
         raise ConvergenceError(f"continuation failed: {out.message}")
     return out
 
 
-def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, tol,
-              max_iter, max_steps, target_it, max_angle, rev_tol, start_max_iter, callback):
-    n = x0.size
+def _scaled_residual(residual, n, x_scale, lam_scale, counters):
+    """``residual`` in the scaled variables y = [x / x_scale, lam / lam_scale]."""
     xs = np.broadcast_to(np.asarray(x_scale, dtype=float), (n,)).copy()
     if np.any(xs <= 0) or not np.all(np.isfinite(xs)):
         raise ModelError("x_scale must be finite and > 0")
     scalar_xs = bool(np.all(xs == xs[0]))
     unit_xs = scalar_xs and xs[0] == 1.0
-    ds_min = ds / 1000.0 if ds_min is None else float(ds_min)
-    ds_max = 10.0 * ds if ds_max is None else float(ds_max)
-    direction = 1.0 if lam1 > lam0 else -1.0
-    lam_lo = min(lam0, lam1) - rev_tol * abs(lam1 - lam0)
-    lam_hi = max(lam0, lam1) + rev_tol * abs(lam1 - lam0)
-    cos_max = math.cos(math.radians(max_angle))
-    counters = {"ev": 0, "fact": 0}
-    border = _Bordered()
 
     def scaled(y):
-        """Residual in scaled variables y = [x / xs, lam / lam_scale]."""
         x = y[:n] * xs
         r, Jx, Jl = residual(x, y[n] * lam_scale)
         counters["ev"] += 1
@@ -410,6 +459,23 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
             Jx = Jx * xs[None, :]
         return r, Jx, np.asarray(Jl, dtype=float) * lam_scale
 
+    return scaled, xs
+
+
+def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, tol,
+              max_iter, max_steps, target_it, max_angle, rev_tol, start_max_iter, callback,
+              test_functions=False):
+    n = x0.size
+    counters = {"ev": 0, "fact": 0}
+    scaled, xs = _scaled_residual(residual, n, x_scale, lam_scale, counters)
+    ds_min = ds / 1000.0 if ds_min is None else float(ds_min)
+    ds_max = 10.0 * ds if ds_max is None else float(ds_max)
+    direction = 1.0 if lam1 > lam0 else -1.0
+    lam_lo = min(lam0, lam1) - rev_tol * abs(lam1 - lam0)
+    lam_hi = max(lam0, lam1) + rev_tol * abs(lam1 - lam0)
+    cos_max = math.cos(math.radians(max_angle))
+    border = _Bordered()
+
     def fixed_lam(lam):
         def f(xx):
             r, Jx, _ = scaled(np.append(xx, lam))
@@ -422,7 +488,8 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
     if not res0.success:
         msg = f"{STATUS_MESSAGES[-1]} at lam = {lam0:g} ({res0.message})"
         return ContinuationResult(np.empty((0, n)), np.empty(0), np.empty(0, int), (), -1, msg,
-                                  counters["ev"], res0.iterations)
+                                  counters["ev"], res0.iterations, np.empty((0, n + 1)),
+                                  np.empty(0) if test_functions else None, xs, lam_scale)
     counters["fact"] += res0.iterations
     y = np.append(res0.x, lam0 / lam_scale)
     pts_y = [y.copy()]
@@ -447,6 +514,12 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
     t /= np.linalg.norm(t)
     if t[n] * direction < 0:
         t = -t
+    pts_t = [t.copy()]
+    pts_det = []
+    if test_functions:
+        Fb = _Factor(border(Jx, Jl, t[:n], t[n]))
+        counters["fact"] += 1
+        pts_det.append(Fb.log_det()[0] if Fb.ok else 0.0)
 
     status, turning = None, []
     step_ds = ds
@@ -496,9 +569,12 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
             if rese.success:
                 y_new = np.append(rese.x, lam_end_s)
                 it = rese.iterations
+        if test_functions:
+            pts_det.append(Fa.log_det()[0])
         y, t = y_new, t_new
         pts_y.append(y.copy())
         pts_it.append(it)
+        pts_t.append(t.copy())
         if passed_end:
             status = 0
             break
@@ -525,7 +601,9 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
                 "converged point returned; try smaller ds/ds_min, more harmonics or samples, "
                 "or a looser tol")
     return ContinuationResult(Y[:, :n] * xs, Y[:, n] * lam_scale, np.array(pts_it, dtype=int),
-                              tuple(turning), status, msg, counters["ev"], counters["fact"])
+                              tuple(turning), status, msg, counters["ev"], counters["fact"],
+                              np.array(pts_t), np.array(pts_det) if test_functions else None,
+                              xs, lam_scale)
 
 
 def _corrector(scaled, y_pred, t, tol, max_iter, border, counters):
@@ -559,3 +637,186 @@ def _corrector(scaled, y_pred, t, tol, max_iter, border, counters):
         r, Jx, Jl = scaled(y)
         rn = _norm(r)
     return y, max_iter, False, None
+
+
+# ---------------------------------------------------------------------------- test functions
+@dataclass(frozen=True)
+class PathPoint:
+    """A point of a continued path, as a test function sees it.
+
+    Attributes
+    ----------
+    x : ndarray, shape (n,)
+        Solution (unscaled).
+    lam : float
+        Parameter.
+    tangent : ndarray, shape (n + 1,)
+        Unit tangent in the scaled variables ``(x / x_scale, lam / lam_scale)``, oriented like
+        the tangent of the start point.
+    det_sign, log_abs_det : float
+        Sign and log of the absolute determinant of the bordered Jacobian at the point (its
+        last row is the chord of the located segment; see :func:`locate_on_branch`).
+    """
+
+    x: np.ndarray
+    lam: float
+    tangent: np.ndarray
+    det_sign: float
+    log_abs_det: float
+
+
+@dataclass(frozen=True)
+class BranchLocation:
+    """Outcome of :func:`locate_on_branch`.
+
+    Attributes
+    ----------
+    point : PathPoint or None
+        The located point (the trial with the smallest ``|test|``), None if no trial
+        converged.
+    value : float
+        The test function there.
+    converged : bool
+        The bracket shrank below ``xtol`` (or the test vanished) with every trial on the path.
+    message : str
+    trials : int
+        Corrector solves (each one trial point).
+    """
+
+    point: PathPoint | None
+    value: float
+    converged: bool
+    message: str
+    trials: int
+
+
+def locate_on_branch(residual: Callable, x_a, lam_a: float, x_b, lam_b: float, tangent_a,
+                     test: Callable, *, x_scale=1.0, lam_scale: float = 1.0, tol: float = 1e-9,
+                     max_iter: int = 10, xtol: float = 1e-9, max_trials: int = 40,
+                     values: tuple[float, float] | None = None) -> BranchLocation:
+    """Zero of a test function on the path between two of its points (folds, bifurcations).
+
+    The trial points lie on the hyperplanes ``c . (y - y_a) = sigma`` orthogonal to the chord
+    ``c = y_b - y_a`` (scaled variables), each corrected onto ``R(x, lam) = 0`` by Newton on the
+    bordered system, and ``sigma`` is found by the Illinois variant of regula falsi, which
+    keeps the bracket and converges superlinearly for a test function that crosses zero
+    linearly (the parameter component of the tangent at a fold, the determinant of the
+    bordered Jacobian at a branch point, the real part of a critical Floquet exponent).
+
+    Parameters
+    ----------
+    residual : callable
+        As for :func:`solve_and_continue`.
+    x_a, lam_a, x_b, lam_b : array_like, float
+        Two converged points of the path (unscaled) between which ``test`` changes sign.
+    tangent_a : array_like, shape (n + 1,)
+        Tangent at ``a`` in the scaled variables (``ContinuationResult.tangents[i]``); only its
+        orientation is used.
+    test : callable
+        ``test(PathPoint) -> float``.
+    x_scale, lam_scale : ndarray or float
+        The scaling of the continuation (``ContinuationResult.x_scale``, ``.lam_scale``).
+    tol, max_iter : float, int
+        Corrector tolerance (max-norm of the residual) and iterations.
+    xtol : float
+        Stop when the bracket is shorter than ``xtol`` times the chord.
+    max_trials : int
+        Largest number of trial points.
+    values : (float, float), optional
+        ``test`` at a and b if already known (saves two corrector solves).
+
+    Returns
+    -------
+    BranchLocation
+    """
+    x_a = np.asarray(x_a, dtype=float)
+    n = x_a.size
+    counters = {"ev": 0, "fact": 0}
+    scaled, xs = _scaled_residual(residual, n, x_scale, lam_scale, counters)
+    y_a = np.append(x_a / xs, lam_a / lam_scale)
+    y_b = np.append(np.asarray(x_b, dtype=float) / xs, lam_b / lam_scale)
+    chord = y_b - y_a
+    length = float(np.linalg.norm(chord))
+    if length == 0.0:
+        raise ModelError("locate_on_branch needs two different points")
+    c = chord / length
+    t_ref = np.asarray(tangent_a, dtype=float)
+    border = _Bordered()
+    rhs = np.zeros(n + 1)
+    rhs[n] = 1.0
+    trials = 0
+
+    def at(sigma):
+        nonlocal trials
+        trials += 1
+        y_pred = y_a + (sigma / length) * chord
+        y, _, ok, _ = _corrector(scaled, y_pred, c, tol, max_iter, border, counters)
+        if not ok:
+            return None, np.nan
+        # tangent and determinant from the Jacobian at the converged point itself (the
+        # corrector's last factorisation is at the previous iterate: near a fold the tangent
+        # is sensitive to that difference)
+        _, Jx, Jl = scaled(y)
+        Fa = _Factor(border(Jx, Jl, c[:n], c[n]))
+        if not Fa.ok:
+            return None, np.nan
+        t = Fa.solve(rhs)
+        t /= np.linalg.norm(t)
+        if t @ t_ref < 0:
+            t = -t
+        sign, logdet = Fa.log_det()
+        pt = PathPoint(y[:n] * xs, float(y[n] * lam_scale), t, sign, logdet)
+        return pt, float(test(pt))
+
+    if values is None:
+        pa, fa = at(0.0)
+        pb, fb = at(length)
+    else:
+        (fa, fb), pa, pb = values, None, None
+    if not (np.isfinite(fa) and np.isfinite(fb)):
+        return BranchLocation(None, np.nan, False, "the corrector failed at an end point",
+                              trials)
+    best = (pa, fa) if abs(fa) <= abs(fb) else (pb, fb)
+    if fa == 0.0 or fb == 0.0:
+        if best[0] is None:
+            best = at(0.0) if fa == 0.0 else at(length)
+        return BranchLocation(best[0], 0.0, True, "test function zero at an end point", trials)
+    if fa * fb > 0:
+        return BranchLocation(best[0], best[1], False,
+                              "the test function has the same sign at both points", trials)
+    sa, sb = 0.0, length
+    side = 0
+    converged = False
+    message = f"bracket not below xtol in {max_trials} trials"
+    while trials < max_trials:
+        sc = (sa * fb - sb * fa) / (fb - fa)
+        if not (min(sa, sb) < sc < max(sa, sb)):
+            sc = 0.5 * (sa + sb)
+        pc, fc = at(sc)
+        for shift in (1e-3, -2e-3):      # a trial exactly on a singular point: move off it
+            if pc is not None or trials >= max_trials:
+                break
+            sc += shift * (sb - sa)
+            pc, fc = at(sc)
+        if pc is None:
+            message = f"the corrector failed at arclength {sc:.3g} of {length:.3g}"
+            break
+        if best[0] is None or abs(fc) < abs(best[1]):
+            best = (pc, fc)
+        if fc == 0.0:
+            converged, message = True, "test function zero"
+            break
+        if fc * fb > 0:
+            sb, fb = sc, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            sa, fa = sc, fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+        if abs(sb - sa) <= xtol * length:
+            converged, message = True, "converged"
+            break
+    return BranchLocation(best[0], float(best[1]), converged, message, trials)
