@@ -3,7 +3,10 @@ by arclength continuation) and ``[analysis.nma]`` (nonlinear modal analysis), pl
 ``[model] type = "cantilever_beam"`` model they are shown on.
 
 Summary contract (issue 4): ``frf: {"omega_rad_s", "amplitude_m", "dissipated_energy_J", ...}``
-and ``nma: {"amplitude", "frequency_hz", "damping_ratio", ...}``.
+and ``nma: {"amplitude", "frequency_hz", "damping_ratio", ...}``; issue 14 adds to ``frf``
+``stable: [bool per point]`` and ``bifurcations: [{"type": "fold" | "branch_point" |
+"neimark_sacker" | "period_doubling", "omega_rad_s", "amplitude_m", ...}]`` (computed with
+``stability = true``; null otherwise).
 """
 
 from __future__ import annotations
@@ -70,6 +73,8 @@ class FRF(Section):
                                                              "(default: largest response)")
     step: Positive = Field(0.02, le=0.5, description="initial continuation step (scaled)")
     max_points: int = Field(2000, ge=10, le=100_000, description="largest number of points")
+    stability: bool = Field(False, description="Hill stability of every point and detection of "
+                                               "folds, branch points and Neimark-Sacker points")
 
     @model_validator(mode="after")
     def _check(self):
@@ -94,7 +99,8 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
     w1 = 2 * np.pi * spec.frequency_end_hz
     sys_ = system.with_loads(HarmonicLoad(np.asarray(spec.force_amplitude_N, float), w0))
     res = frequency_response(sys_, w0, w1, harmonics=spec.harmonics, samples=spec.samples,
-                             step=spec.step, max_points=spec.max_points)
+                             step=spec.step, max_points=spec.max_points,
+                             stability=spec.stability)
     if res.n_points == 0:
         raise ConvergenceError(f"frequency response: no converged point ({res.message})")
     dof = (spec.response_dof - 1 if spec.response_dof is not None
@@ -122,28 +128,74 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
         "status": res.status,
         "message": res.message,
         "solver_runtime_s": float(res.wall_time),
+        "stable": None,
+        "bifurcations": None,
     }
-    arrays = {"curve": res.to_xarray()}
     headline = (f"{res.n_points} HB points (H = {res.harmonics}) in {res.wall_time:.2f} s; "
                 f"peak {amp[ipk]:.3g} m of {system.names[dof]} at "
                 f"{summary['peak_frequency_hz']:.4g} Hz; energy balance error "
                 f"{summary['energy_balance_error']:.1e}")
+    if res.stable is not None:
+        summary.update({
+            "stable": res.stable,
+            "bifurcations": [b.as_dict(dof) for b in res.bifurcations],
+            "floquet_max_real_per_s": res.floquet_exponents.real.max(axis=1),
+            "n_unstable_points": int(np.sum(~res.stable)),
+            "stability_error_per_s": float(res.stability_error),
+            "stability_converged": res.stability_converged,
+            "stability_method": "Hill (eigenvector-centrality sorting; H + 1 check)",
+        })
+        kinds = [f"{b.type} at {b.omega / (2 * np.pi):.4g} Hz" for b in res.bifurcations]
+        headline += (f"; {summary['n_unstable_points']} unstable point"
+                     f"{'s' if summary['n_unstable_points'] != 1 else ''}"
+                     + (f", {', '.join(kinds)}" if kinds else ", no bifurcation"))
+        if res.stability_converged is False:
+            notes.append("the stability verdict changes at some checked points when the "
+                         f"solution is re-solved with H + 1 = {res.harmonics + 1} harmonics: "
+                         "increase harmonics")
+        if any(not b.located for b in res.bifurcations):
+            notes.append("some bifurcations could not be located between their two points; "
+                         "the nearer point is reported (located = false)")
+    arrays = {"curve": res.to_xarray()}
 
     def figures():
         from fricdamp import plot
 
         f = res.omega / (2 * np.pi)
-        fig, axes = plot.new_figure(2, 1, sharex=True, title="Frequency response (harmonic "
-                                    f"balance, H = {res.harmonics})")
+        # conservative contacts (cubic springs): the friction energy is round-off, not drawn
+        friction = np.max(np.abs(diss), initial=0.0) > 1e-8 * np.max(
+            np.abs(res.external_work), initial=0.0)
+        fig, axes = plot.new_figure(2 if friction else 1, 1, sharex=True,
+                                    title=f"Frequency response (harmonic balance, H = "
+                                          f"{res.harmonics})")
         fa, la = plot.si_scale(amp, "m")
-        axes[0, 0].plot(f, amp / fa, lw=1.5)
-        axes[0, 0].plot(f[ipk], amp[ipk] / fa, "o", ms=5)
+        axes[0, 0].plot(f[ipk], amp[ipk] / fa, "o", ms=5, color="C1",
+                        zorder=1 if res.stable is not None else 3)   # under fold markers
+        if res.stable is None:
+            axes[0, 0].plot(f, amp / fa, lw=1.5)
+        else:
+            plot.stability_line(axes[0, 0], f, amp / fa, res.stable, lw=1.5,
+                                label="harmonic balance")
+            marks = {"fold": "o", "branch_point": "s", "neimark_sacker": "D",
+                     "period_doubling": "^"}
+            for kind, mk in marks.items():
+                bs = [b for b in res.bifurcations if b.type == kind]
+                if bs:
+                    axes[0, 0].plot([b.omega / (2 * np.pi) for b in bs],
+                                    [b.amplitude[dof] / fa for b in bs], mk, ms=6, mfc="none",
+                                    color="k", label=kind.replace("_", "-"))
+            axes[0, 0].legend(fontsize="small")
         axes[0, 0].set_ylabel(f"amplitude of {system.names[dof]} [{la}]")
-        fe, le = plot.si_scale(diss, "J")
-        axes[1, 0].plot(f, diss / fe, lw=1.5, color="C3")
-        axes[1, 0].set_ylabel(f"friction energy per cycle [{le}]")
-        axes[1, 0].set_xlabel("excitation frequency [Hz]")
-        return [("frf.png", "Frequency response and friction energy per cycle", fig)]
+        if friction:
+            fe, le = plot.si_scale(diss, "J")
+            axes[1, 0].plot(f, diss / fe, lw=1.5, color="C3")
+            axes[1, 0].set_ylabel(f"friction energy per cycle [{le}]")
+        axes[-1, 0].set_xlabel("excitation frequency [Hz]")
+        caption = ("Frequency response and friction energy per cycle" if friction
+                   else "Frequency response")
+        if res.stable is not None:
+            caption += " (dashed: unstable by Hill's method)"
+        return [("frf.png", caption, fig)]
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes)
