@@ -37,7 +37,7 @@ from fricdamp.contact.base import ContactLaw, LawStep
 from fricdamp.errors import ModelError
 from fricdamp.solvers.aft import HarmonicBasis
 from fricdamp.solvers.continuation import locate_on_branch, solve_and_continue
-from fricdamp.solvers.hb import frequency_response, harmonic_balance
+from fricdamp.solvers.hb import frequency_response, harmonic_balance, load_response
 from fricdamp.solvers.hb_stability import hill_stability
 from fricdamp.solvers.nma import nonlinear_modes
 from fricdamp.solvers.timestep import simulate
@@ -241,6 +241,21 @@ def test_duffing_stability_matches_time_integration():
             assert strobe.max() < 0.05 * ss.amplitude[0]
         else:
             assert strobe.max() > 0.3 * ss.amplitude[0]
+
+
+def test_duffing_load_folds_closed_form():
+    """Continuation in the load at W = 1.2, H = 1: F(A) from the amplitude equation has its
+    turning points where dPhi/dA = 0, i.e. A = (-2 Delta +- sqrt(Delta^2 - 3 (c W)^2)) /
+    (3 kappa), F = sqrt(Phi + F^2) there (1e-9)."""
+    W = 1.2
+    fr_l = load_response(duffing(), W, 0.1, 10.0, harmonics=1, stability=True)
+    d, kap = K_ - M_ * W**2, 0.75 * K3
+    A = (-2 * d + np.array([1.0, -1.0]) * np.sqrt(d * d - 3 * (C_ * W) ** 2)) / (3 * kap)
+    F = np.sqrt(A * (d + kap * A) ** 2 + (C_ * W) ** 2 * A)
+    folds = sorted((b.load_scale * F_, b.amplitude[0] ** 2) for b in fr_l.bifurcations)
+    assert [b.type for b in fr_l.bifurcations] == ["fold", "fold"]
+    np.testing.assert_allclose(folds, sorted(zip(F, A, strict=True)), rtol=1e-9)
+    assert np.sum(~fr_l.stable) > 0 and fr_l.stable[0] and fr_l.stable[-1]
 
 
 # ============================================================================ branch points
