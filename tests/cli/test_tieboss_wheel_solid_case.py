@@ -141,6 +141,10 @@ n_interface_modes = 24
 
 [analysis.modal]
 n_modes = 1
+
+[analysis.mistuning]
+youngs_modulus_scatter = 0.005
+n_modes = 16
 """
 
 
@@ -166,6 +170,15 @@ def test_imported_sector_equals_the_built_one(cli, write_case, tmp_path):
                            probe_direction=[0, 1, 1])
     ref = modal_by_nd(cyclic=ws.cyclic, n_modes=1)["frequency_hz"]
     np.testing.assert_allclose(s["modal"]["frequency_hz"], ref, rtol=1e-9)
+    # mistuning: the tuned wheel's doublets are equal, the scattered ones split; the modes of
+    # the mistuned wheel lie within the scatter's bounds of the tuned ones (f ~ sqrt(E))
+    mt = s["mistuning"]
+    tuned = np.asarray(mt["tuned_frequency_hz"])
+    f = np.asarray(mt["frequency_hz"])
+    fac = np.asarray(mt["stiffness_factors"])
+    assert all(v > 0 for v in mt["doublet_split_hz"].values())
+    assert f.min() >= tuned.min() * np.sqrt(fac.min()) * (1 - 1e-9)
+    assert f.max() <= tuned.max() * np.sqrt(fac.max()) * (1 + 1e-9)
 
 
 BAD_IMPORT = [

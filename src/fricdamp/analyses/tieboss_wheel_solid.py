@@ -19,6 +19,9 @@ analyses are those of the beam wheel (same tables, same summary keys):
 ``[analysis.penalty_convergence]``
     the same decays for several penalty factors at the same prestress (the offset is
     re-calibrated for each): ``damping_ratio_2nd`` / ``_6nd`` against ``penalty_factor``.
+``[analysis.mistuning]``
+    blade-to-blade Young's-modulus scatter, the wheel assembled without cyclic symmetry from
+    the reduced sectors, its split doublets (003 Table 1's pairs).
 
 Summary contract (issue 12)::
 
@@ -51,8 +54,9 @@ from fricdamp.runner import (
     register_model,
 )
 
-__all__ = ["CyclicSectorSpec", "PenaltyConvergenceAnalysis", "SolidWheelCaseModel",
-           "SolidWheelSpec", "paper_wheel_sector", "run_penalty_convergence",
+__all__ = ["CyclicSectorSpec", "MistuningAnalysis", "PenaltyConvergenceAnalysis",
+           "SolidWheelCaseModel", "SolidWheelSpec", "paper_wheel_sector", "run_mistuning",
+           "run_penalty_convergence",
            "run_solid_free_attenuation", "run_solid_modal"]
 
 MODEL_TYPES = ("tieboss_wheel_solid", "cyclic_sector")
@@ -619,11 +623,90 @@ def run_penalty_convergence(model: SolidWheelCaseModel, spec: PenaltyConvergence
                           notes=notes)
 
 
+# ================================================================================ mistuning
+class MistuningAnalysis(Section):
+    """``[analysis.mistuning]``: Young's-modulus scatter from blade to blade (normal, seeded),
+    the wheel of reduced sectors assembled without cyclic symmetry, its lowest modes with the
+    split doublets (003 Table 1 lists each ND as a pair)."""
+
+    youngs_modulus_scatter: float = Field(0.005, ge=0.0, le=0.2, description="standard "
+                                          "deviation of the per-blade stiffness factor")
+    seed: int = Field(1, ge=0, description="random seed of the scatter")
+    n_modes: int = Field(32, ge=2, le=500, description="lowest modes of the wheel")
+
+
+def _check_mistuning(model, spec) -> None:
+    if not is_solid(model):
+        raise CaseError("[analysis.mistuning] needs [model] type = 'tieboss_wheel_solid' or "
+                        "'cyclic_sector'")
+
+
+def run_mistuning(model: SolidWheelCaseModel, spec: MistuningAnalysis,
+                  ctx: RunContext) -> AnalysisOutput:
+    """Doublet splits of the mistuned wheel (:func:`~fricdamp.structure.mistuning.
+    mistuned_modes`), open contacts."""
+    from fricdamp.models.tieboss_wheel import TABLE1_FEM_HZ
+    from fricdamp.structure.mistuning import mistuned_modes
+
+    w = model.wheel()
+    red = w.reduced.sector
+    N = model.n_blades
+    rng = np.random.default_rng(spec.seed)
+    factors = 1.0 + spec.youngs_modulus_scatter * rng.standard_normal(N)
+    if factors.min() <= 0:
+        raise CaseError("[analysis.mistuning] youngs_modulus_scatter is so large that a "
+                        "blade's stiffness factor is <= 0")
+    mm = mistuned_modes(red, spec.n_modes, probe_dofs=red.named_dofs["probe"][:3],
+                        probe_direction=model.sector.probe_direction,
+                        stiffness_factors=factors)
+    tuned = mistuned_modes(red, spec.n_modes, probe_dofs=red.named_dofs["probe"][:3],
+                           probe_direction=model.sector.probe_direction)
+    splits = {}
+    for nd in range(1, (N - 1) // 2 + 1):
+        if np.count_nonzero(mm.nd == nd) >= 2:
+            splits[f"{nd}ND"] = mm.doublet_split_hz(nd)
+    summary = {"youngs_modulus_scatter": spec.youngs_modulus_scatter, "seed": spec.seed,
+               "stiffness_factors": factors.tolist(),
+               "frequency_hz": mm.frequency_hz.tolist(), "nd": mm.nd.tolist(),
+               "tuned_frequency_hz": tuned.frequency_hz.tolist(),
+               "localisation": mm.localisation.tolist(), "doublet_split_hz": splits}
+    if model.paper and N == 30:
+        summary["table1_split_hz"] = {f"{nd}ND": pair[1] - pair[0]
+                                      for nd, pair in TABLE1_FEM_HZ.items() if len(pair) == 2}
+    shown = [k for k in ("2ND", "3ND", "4ND", "5ND", "6ND") if k in splits]
+    headline = (f"E scatter {100 * spec.youngs_modulus_scatter:.2g} %: doublet splits "
+                + ", ".join(f"{k} {splits[k]:.3g} Hz" for k in shown))
+
+    def figures():
+        from fricdamp import plot
+
+        fig, axes = plot.new_figure(1, 1, width=6.5, height=3.8, title="Mistuned wheel: "
+                                    "split doublets (open contacts)")
+        ax = axes[0, 0]
+        ax.plot(tuned.nd, tuned.frequency_hz, "o", mfc="none", color="0.4", label="tuned")
+        ax.plot(mm.nd, mm.frequency_hz, "x", color="C3",
+                label=f"E scatter {100 * spec.youngs_modulus_scatter:.2g} %")
+        if "table1_split_hz" in summary:
+            for k, (nd, pair) in enumerate((n, p) for n, p in TABLE1_FEM_HZ.items()
+                                           if len(p) == 2):
+                ax.plot([nd, nd], pair, "s", mfc="none", color="C0",
+                        label="003 Table 1, FEM pairs" if k == 0 else None)
+        ax.set_xlabel("nodal diameter (dominant DFT harmonic of the probes)")
+        ax.set_ylabel("frequency [Hz]")
+        ax.legend(fontsize="small")
+        return [("mistuning.png", "Frequencies of the mistuned wheel by dominant ND against "
+                 "the tuned doublets and 003 Table 1's pairs", fig)]
+
+    return AnalysisOutput(summary=summary, arrays={}, figures=figures, headline=headline)
+
+
 # ================================================================================ registry
 register_model("tieboss_wheel_solid", SolidWheelSpec, build_solid_wheel_case,
                description="paper 003's wheel as solid tet10 sectors with contact patches")
 register_model("cyclic_sector", CyclicSectorSpec, build_cyclic_sector_case,
                description="a user's meshed cyclic sector with contact faces")
+register_analysis("mistuning", MistuningAnalysis, run_mistuning, check=_check_mistuning,
+                  description="blade-to-blade scatter: split doublets of the wheel")
 register_analysis("penalty_convergence", PenaltyConvergenceAnalysis, run_penalty_convergence,
                   check=_check_penalty,
                   description="damping of the solid wheel against the contact penalty factor")
