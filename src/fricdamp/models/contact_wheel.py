@@ -554,7 +554,7 @@ class ContactWheel:
         progress : bool, optional
             Progress bar.
         """
-        from fricdamp.analysis.decay import decay_damping
+        from fricdamp.models.tieboss_analyses import decay_estimates
         from fricdamp.solvers.modal_transient import integrate_modal, transient_compliance
 
         settings = ContactSettings() if settings is None else settings
@@ -575,18 +575,7 @@ class ContactWheel:
         x_rest = self.basis.output @ rest.eta
         blades = res.output - x_rest[None, :]
         t, x = res.t, blades[:, 0]
-        try:
-            dec = decay_damping(t, x, method="peaks")
-            zeta = float(dec.mean_damping_ratio)
-        except ModelError as exc:
-            log.warning("no damping estimate for %dND: %s", nd, exc)
-            dec, zeta = None, float("nan")
-        hil = None
-        if dec is not None and dec.mean_frequency_hz * (t[-1] - t[0]) >= 4.0:
-            try:
-                hil = decay_damping(t, x, method="hilbert", trim_cycles=1.0)
-            except ModelError:
-                hil = None
+        dec, hil, zeta = decay_estimates(t, x, f"{nd}ND")
         N, npair = self.n_sectors, self.n_pairs
         return SolidDecayRun(
             nd=int(nd), t=t, signal=x, blades=blades, decay=dec, amplitude_decay=hil,

@@ -507,6 +507,27 @@ def _node_histories(wheel: TiebossWheel, q, q_rest) -> dict:
             for key, dofs, R in _node_keys(wheel)}
 
 
+def decay_estimates(t, x, label: str = "the decay"):
+    """Damping of a free-decay signal: (peak-envelope DecayResult or None, Hilbert
+    DecayResult or None, record-average damping ratio or NaN).
+
+    The peak envelope (one point per half cycle) gives the record average; the Hilbert
+    envelope, the ratio cycle by cycle, when the record holds at least 4 cycles."""
+    try:
+        dec = decay_damping(t, x, method="peaks")
+        zeta = float(dec.mean_damping_ratio)
+    except ModelError as exc:
+        log.warning("no damping estimate for %s: %s", label, exc)
+        return None, None, float("nan")
+    hil = None
+    if dec.mean_frequency_hz * (t[-1] - t[0]) >= 4.0:
+        try:
+            hil = decay_damping(t, x, method="hilbert", trim_cycles=1.0)
+        except ModelError:
+            hil = None
+    return dec, hil, zeta
+
+
 def free_decay(wheel: TiebossWheel, nd: int, *, amplitude_m: float = 5e-4,
                duration_s: float = 0.1, dt: float = 1e-5, solver: str = "auto",
                method: str = "newmark", save_every: int = 1, forcing: str = "tieboss",
@@ -575,18 +596,7 @@ def free_decay(wheel: TiebossWheel, nd: int, *, amplitude_m: float = 5e-4,
         runtime, ebal = res.runtime_s, res.energy_balance_error
         extra = {"n_newton": res.n_newton}
     x = _probe_signal(wheel, qo) - _probe_signal(wheel, init.q_rest)
-    try:
-        dec = decay_damping(t, x, method="peaks")
-        zeta = dec.mean_damping_ratio
-    except ModelError as exc:
-        log.warning("no damping estimate for %dND: %s", nd, exc)
-        dec, zeta = None, float("nan")
-    hil = None
-    if dec is not None and dec.mean_frequency_hz * (t[-1] - t[0]) >= 4.0:
-        try:
-            hil = decay_damping(t, x, method="hilbert", trim_cycles=1.0)
-        except ModelError:
-            hil = None
+    dec, hil, zeta = decay_estimates(t, x, f"{nd}ND")
     nodes = _node_histories(wheel, qo, init.q_rest)
     return DecayRun(nd=int(nd), t=t, signal=x, decay=dec, amplitude_decay=hil,
                     damping_ratio=float(zeta),

@@ -47,7 +47,7 @@ from numba import njit
 
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ConvergenceError, ModelError
-from fricdamp.solvers.timestep import energy_balance_error, energy_residual
+from fricdamp.solvers.timestep import EnergyBalance
 from fricdamp.structure.system import MechanicalSystem
 
 __all__ = ["FastTransientResult", "StaticContactResult", "integrate_contact3d",
@@ -240,7 +240,7 @@ def solve_static(system: MechanicalSystem, load=None, *, states=None, increments
 
 # ================================================================================ transient
 @dataclass(frozen=True)
-class FastTransientResult:
+class FastTransientResult(EnergyBalance):
     """Time history from :func:`integrate_contact3d`.
 
     Attributes
@@ -291,15 +291,6 @@ class FastTransientResult:
     method: str = "newmark"
     meta: dict = field(default_factory=dict, compare=False)
 
-    @property
-    def energy_residual(self) -> np.ndarray:
-        """``input_work - (d(T + V + stored) + viscous + contact dissipation)`` [J]."""
-        return energy_residual(self.energy)
-
-    @property
-    def energy_balance_error(self) -> float:
-        """Largest energy residual relative to the run's energy scale (as ``simulate``)."""
-        return energy_balance_error(self.energy)
 
 
 @njit(cache=True, nogil=True)

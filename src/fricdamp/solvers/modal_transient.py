@@ -53,7 +53,7 @@ from fricdamp.solvers.fast_transient import (
     _contact_energy,
     _eval_contacts,
 )
-from fricdamp.solvers.timestep import _progress_default, energy_balance_error, energy_residual
+from fricdamp.solvers.timestep import EnergyBalance, _progress_default
 
 __all__ = ["ModalBasis", "ModalStaticResult", "ModalTransientResult", "contact_law_arrays",
            "integrate_modal", "solve_static_modal", "transient_compliance", "CyclicRows"]
@@ -626,7 +626,7 @@ def transient_compliance(basis: ModalBasis, dt: float, *, method: str = "newmark
 
 
 @dataclass(frozen=True)
-class ModalTransientResult:
+class ModalTransientResult(EnergyBalance):
     """Time history from :func:`integrate_modal`.
 
     Attributes
@@ -676,16 +676,6 @@ class ModalTransientResult:
     setup_s: float = 0.0
     method: str = "newmark"
     meta: dict = field(default_factory=dict, compare=False)
-
-    @property
-    def energy_residual(self) -> np.ndarray:
-        """``input_work - (d(T + V + stored) + viscous + contact dissipation)`` [J]."""
-        return energy_residual(self.energy)
-
-    @property
-    def energy_balance_error(self) -> float:
-        """Largest energy residual relative to the run's energy scale."""
-        return energy_balance_error(self.energy)
 
     def state_fractions(self) -> dict:
         """Fractions of (contact, saved instant) samples open / stick / slip."""

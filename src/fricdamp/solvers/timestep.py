@@ -73,8 +73,22 @@ def energy_balance_error(energy: dict) -> float:
     return float(np.max(np.abs(energy_residual(e))) / scale)
 
 
+class EnergyBalance:
+    """The energy-balance properties of a time history with an ``energy`` dict."""
+
+    @property
+    def energy_residual(self) -> np.ndarray:
+        """``input_work - (d(T + V + stored) + viscous + contact dissipation)`` [J]."""
+        return energy_residual(self.energy)
+
+    @property
+    def energy_balance_error(self) -> float:
+        """Largest energy residual relative to the run's energy scale."""
+        return energy_balance_error(self.energy)
+
+
 @dataclass(frozen=True)
-class TimeResult:
+class TimeResult(EnergyBalance):
     """Time history of a MechanicalSystem from :func:`simulate`.
 
     Attributes
