@@ -424,11 +424,24 @@ class ContactWheel:
             n_sectors=self.n_sectors)]
 
     def static(self, settings: ContactSettings, offset: float, load=None):
-        """Static solution with the contacts from the virgin state (modal load or None)."""
+        """Static solution with the contacts from the virgin state (modal load or None): in
+        one return-map step, or -- when that does not converge (stiff penalties) -- along a
+        quasi-static path of 8 or 32 increments."""
+        from fricdamp.errors import ConvergenceError
         from fricdamp.solvers.modal_transient import solve_static_modal
 
-        return solve_static_modal(self.basis, self.laws(settings, offset), load,
-                                  compliance=self.static_compliance())
+        laws = self.laws(settings, offset)
+        for increments in (1, 8, 32):
+            try:
+                return solve_static_modal(self.basis, laws, load, increments=increments,
+                                          compliance=self.static_compliance())
+            except ConvergenceError:
+                # stiff penalties: the one-step return map cycles between contact states;
+                # a quasi-static path of interference and load converges
+                if increments == 32:
+                    raise
+                log.info("static solution did not converge in %d increment(s): retrying on "
+                         "a finer quasi-static path", increments)
 
     def normal_force_per_contact(self, static) -> np.ndarray:
         """Static normal force of each contact (sum over its node pairs) [N], shape (N,)."""

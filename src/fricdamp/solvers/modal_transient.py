@@ -521,8 +521,8 @@ def _as_compliance(C):
 
 
 def solve_static_modal(basis: ModalBasis, laws, load=None, *, states=None,
-                       compliance: np.ndarray | None = None, tol: float = 1e-10,
-                       max_iter: int = 60) -> ModalStaticResult:
+                       compliance: np.ndarray | None = None, increments: int = 1,
+                       tol: float = 1e-10, max_iter: int = 60) -> ModalStaticResult:
     """Static equilibrium ``lambda eta + B^T f(B eta) = F`` from given contact states.
 
     Parameters
@@ -537,6 +537,9 @@ def solve_static_modal(basis: ModalBasis, laws, load=None, *, states=None,
         one return-map step (a proportional, monotonic load path).
     compliance : compliance operator or ndarray (m, m), optional
         ``B diag(1/lambda) B^T`` if already formed (re-used across calls).
+    increments : int
+        The load and the contacts' interference offsets are applied in this many equal
+        steps, the contact states committed after each (a quasi-static path); 1: at once.
     tol, max_iter
         Convergence ``max |g| <= tol max(|u|, |u_lin|)``; Newton iterations (dense steps
         up to :data:`DENSE_STATIC_MAX` contact rows, block-preconditioned GMRES above).
@@ -550,44 +553,62 @@ def solve_static_modal(basis: ModalBasis, laws, load=None, *, states=None,
     F = np.zeros(n) if load is None else np.asarray(load, dtype=float).reshape(-1)
     if F.shape != (n,) or not np.all(np.isfinite(F)):
         raise ModelError(f"load must be a finite modal vector of length {n}")
+    if isinstance(increments, bool) or int(increments) != increments or increments < 1:
+        raise ModelError(f"increments must be an integer >= 1, got {increments!r}")
     con = _Contacts(laws, basis)
     w0, s0 = _states(laws, states, con.nc)
     Cs = _as_compliance(_static_compliance(basis) if compliance is None else compliance)
-    eta_lin = F / basis.omega2
-    u_lin = basis.rows.rows(eta_lin)
-    u = u_lin.copy()
+    g0_full = con.g0.copy()
+    u = np.zeros(basis.rows.m)
     zero = np.zeros_like(u)
     dense = hasattr(Cs, "C") and u.size <= DENSE_STATIC_MAX
-    res = np.inf
-    it = 0
+    res, it_total = np.inf, 0
     with _blas1():
-        for it in range(max_iter + 1):  # noqa: B007
-            f = con.evaluate(u, zero, w0, s0)
-            g = u - u_lin + Cs.apply(f)
-            res = float(np.max(np.abs(g)))
-            scale = max(float(np.max(np.abs(u))), float(np.max(np.abs(u_lin))), 1e-300)
-            if res <= tol * scale:
-                break
-            if dense:
-                du = np.linalg.solve(np.eye(u.size) + Cs.C @ _block_matrix(con.Ku), g)
-            else:
-                du = _newton_krylov_step(Cs, con.Ku.copy(), g, con.blocks, 1.0, 1e-8)[0]
-            step = 1.0
-            for _ in range(30):
-                trial = u - step * du
-                ft = con.evaluate(trial, zero, w0, s0)
-                if np.max(np.abs(trial - u_lin + Cs.apply(ft))) < res or step < 1e-6:
+        for k in range(1, int(increments) + 1):
+            frac = k / int(increments)
+            con.g0 = g0_full * frac              # interference and load ramped together
+            eta_lin = frac * F / basis.omega2
+            u_lin = basis.rows.rows(eta_lin)
+            if k == 1:
+                u = u_lin.copy()
+            for _it in range(max_iter + 1):
+                f = con.evaluate(u, zero, w0, s0)
+                Cf = Cs.apply(f)
+                g = u - u_lin + Cf
+                res = float(np.max(np.abs(g)))
+                scale = max(float(np.max(np.abs(u))), float(np.max(np.abs(u_lin))),
+                            float(np.max(np.abs(Cf))), 1e-300)
+                if res <= tol * scale:
                     break
-                step *= 0.5
-            u = u - step * du
-        else:
-            raise ConvergenceError(f"static contact solution did not converge in {max_iter} "
-                                   f"Newton iterations (residual {res:.3g} m)")
-    f = con.evaluate(u, zero, w0, s0)
-    eta = eta_lin - basis.rows.rows_T(f) / basis.omega2
+                it_total += 1
+                if dense:
+                    du = np.linalg.solve(np.eye(u.size) + Cs.C @ _block_matrix(con.Ku), g)
+                else:
+                    du = _active_newton_step(Cs, con.Ku.copy(), g, 1.0)
+                    if du is None:
+                        du = _newton_krylov_step(Cs, con.Ku.copy(), g, con.blocks, 1.0,
+                                                 1e-8)[0]
+                step = 1.0
+                for _ in range(30):
+                    trial = u - step * du
+                    ft = con.evaluate(trial, zero, w0, s0)
+                    if np.max(np.abs(trial - u_lin + Cs.apply(ft))) < res or step < 1e-6:
+                        break
+                    step *= 0.5
+                u = u - step * du
+            else:
+                raise ConvergenceError(
+                    f"static contact solution did not converge in {max_iter} Newton "
+                    f"iterations (increment {k}/{increments}, residual {res:.3g} m); use "
+                    "more increments")
+            if k < increments:                    # commit the contact states
+                con.evaluate(u, zero, w0, s0)
+                w0, s0 = con.w1.copy(), con.s1.copy()
+        f = con.evaluate(u, zero, w0, s0)
+        eta = eta_lin - basis.rows.rows_T(f) / basis.omega2
     return ModalStaticResult(eta=eta, u=u.reshape(-1, 3), f=f.reshape(-1, 3),
                              states=(con.w1.copy(), con.s1.copy()), status=con.code.copy(),
-                             iterations=it, residual=res)
+                             iterations=it_total, residual=res)
 
 
 def _block_matrix(K):
