@@ -6,11 +6,15 @@ Usage::
     python benchmarks/run.py --only contact_kernel [--only ...]
     python benchmarks/run.py --json results.json  # also save every result dict
     python benchmarks/run.py -v                   # also print each result's details
+    python benchmarks/run.py --quick              # quick modes (smoke test) where offered
 
 Each ``run()`` returns at least ``name``, ``figure`` (the headline, e.g. "ratio 85x"),
 ``value``, ``target`` and ``passed``; one line is printed per benchmark::
 
     PASS  contact_kernel   Jenkins 3e+08 contact-steps/s (ratio 40x ...)  [value 3e+08, ...]
+
+A benchmark whose ``run`` takes a ``quick`` argument (e.g. ``solid_wheel``, ~20 minutes in
+full) runs its smoke-test mode with ``--quick``.
 
 The exit status is 0 when every selected benchmark ran and met its target, 1 otherwise
 (a benchmark that raises is reported as ERROR and the others still run).
@@ -20,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import inspect
 import json
 import sys
 import time
@@ -46,11 +51,14 @@ def _fmt(x) -> str:
     return f"{x:.3g}" if isinstance(x, int | float) and not isinstance(x, bool) else str(x)
 
 
-def run_one(short: str, path: Path) -> dict:
+def run_one(short: str, path: Path, quick: bool = False) -> dict:
     """Import and run one benchmark; never raises (errors come back as a result)."""
     t0 = time.perf_counter()
     try:
-        res = dict(load(path).run())
+        module = load(path)
+        kwargs = {"quick": True} if quick and "quick" in inspect.signature(
+            module.run).parameters else {}
+        res = dict(module.run(**kwargs))
         missing = [k for k in REQUIRED if k not in res]
         if missing:
             raise KeyError(f"run() result lacks {missing}")
@@ -70,6 +78,8 @@ def main(argv=None) -> int:
                          "repeatable")
     ap.add_argument("--json", type=Path, metavar="PATH", help="write all results to PATH")
     ap.add_argument("-v", "--verbose", action="store_true", help="print details")
+    ap.add_argument("--quick", action="store_true",
+                    help="run the quick (smoke-test) mode of benchmarks that have one")
     args = ap.parse_args(argv)
 
     found = discover()
@@ -88,7 +98,7 @@ def main(argv=None) -> int:
     results = []
     ok = True
     for short, path in found.items():
-        res = run_one(short, path)
+        res = run_one(short, path, quick=args.quick)
         results.append(res)
         ok &= res["status"] == "PASS"
         print(f"{res['status']:<5} {res['name']:<24} {res['figure']}  "
