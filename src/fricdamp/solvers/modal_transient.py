@@ -434,14 +434,31 @@ def _active_newton_step(C, K, g, ap):
     if 3 * closed.size > DENSE_ACTIVE_MAX:
         return None
     A = (3 * closed[:, None] + np.arange(3)).reshape(-1)
-    KA = _block_matrix(K[closed])
-    JA = np.eye(A.size) + ap * (C.submatrix(A) @ KA)
+    CAA = _cached_submatrix(C, closed, A)
+    Kc = K[closed]                                             # (na, 3, 3)
+    na = closed.size
+    # C_AA K_AA without forming the block-diagonal K_AA: column block b times K_b
+    CK = np.matmul(CAA.reshape(3 * na, na, 3).transpose(1, 0, 2), Kc)
+    JA = ap * CK.transpose(1, 0, 2).reshape(3 * na, 3 * na)
+    JA[np.diag_indices_from(JA)] += 1.0
     duA = np.linalg.solve(JA, g[A])
     z = np.zeros_like(g)
-    z[A] = KA @ duA
+    z[A] = np.einsum("pab,pb->pa", Kc, duA.reshape(na, 3)).reshape(-1)
     du = g - ap * C.apply(z)
     du[A] = duA
     return du
+
+
+def _cached_submatrix(C, closed, A):
+    """``C_AA``, re-used while the set of closed contacts is the same (it changes far less
+    often than the Newton iterate)."""
+    key = closed.tobytes()
+    cache = getattr(C, "_sub_cache", None)
+    if cache is not None and cache[0] == key:
+        return cache[1]
+    CAA = np.ascontiguousarray(C.submatrix(A))
+    C._sub_cache = (key, CAA)
+    return CAA
 
 
 def _newton_krylov_step(C, K, g, blocks, ap, tol):
