@@ -448,6 +448,7 @@ def run_solid_free_attenuation(model: SolidWheelCaseModel, spec,
     ebe = max(r.energy_balance_error for r in runs)
     if ebe > 1e-3:
         notes.append(f"energy balance error {ebe:.2g}: reduce time_step_s")
+    notes += _loose_notes(runs)
     summary = {
         "nodal_diameters": list(spec.nodal_diameters),
         "damping_ratio": {f"{r.nd}ND": r.damping_ratio for r in runs},
@@ -484,6 +485,20 @@ def run_solid_free_attenuation(model: SolidWheelCaseModel, spec,
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes, top_level={"decay": entries})
+
+
+def _loose_notes(runs) -> list[str]:
+    """Notes on steps accepted at a loose Newton residual (see integrate_modal)."""
+    out = []
+    for r in runs:
+        n = r.meta.get("n_loose_steps", 0)
+        if n:
+            out.append(f"{r.nd}ND (penalty factor {r.meta['penalty_factor']:g}): {n} time "
+                       f"steps accepted at a Newton residual up to "
+                       f"{r.meta['largest_loose_residual']:.1e} of the displacement scale "
+                       "(stick/slip cycling); energy balance error "
+                       f"{r.energy_balance_error:.2g}")
+    return out
 
 
 def _status_instants(run) -> list[int]:
@@ -582,12 +597,15 @@ def run_penalty_convergence(model: SolidWheelCaseModel, spec: PenaltyConvergence
     """Decays for each penalty factor at the same prestress (module docstring)."""
     zeta = {nd: [] for nd in spec.nodal_diameters}
     offsets, forces = [], []
+    loose = []
     for fac in spec.penalty_factors:
         s = model.settings.with_(penalty_factor=float(fac))
         off, fn = model.offset(s)
         offsets.append(off)
         forces.append(fn)
-        for r in _decays(model, spec, s, off, ctx):
+        runs = _decays(model, spec, s, off, ctx)
+        loose += _loose_notes(runs)
+        for r in runs:
             zeta[r.nd].append(r.damping_ratio)
     summary = {"penalty_factor": list(spec.penalty_factors), "offset_m": offsets,
                "prestress_normal_force_N": forces}
@@ -597,8 +615,8 @@ def run_penalty_convergence(model: SolidWheelCaseModel, spec: PenaltyConvergence
         rel[nd] = abs(z[-1] / z[-2] - 1.0) if z[-2] else float("inf")
     summary["relative_change_last"] = {f"{nd}ND": v for nd, v in rel.items()}
     summary["converged"] = bool(all(v <= 0.05 for v in rel.values()))
-    notes = [] if summary["converged"] else [
-        "the damping still moves by more than 5 % between the two largest penalty factors"]
+    notes = loose + ([] if summary["converged"] else [
+        "the damping still moves by more than 5 % between the two largest penalty factors"])
     headline = "; ".join(
         f"{nd}ND zeta " + " / ".join(f"{100 * v:.3g}" for v in z) + " %"
         for nd, z in zeta.items()) + " at penalty factors " + " / ".join(

@@ -602,6 +602,9 @@ class ContactWheel:
             meta={"dt_s": h, "duration_s": dur, "method": method, "forcing": forcing,
                   "penalty_factor": settings.penalty_factor, "n_iterations": res.n_iterations,
                   "n_krylov": res.n_krylov, "setup_s": res.setup_s,
+                  "n_halved_steps": res.meta["n_halved_steps"],
+                  "n_loose_steps": res.meta["n_loose_steps"],
+                  "largest_loose_residual": res.meta["largest_loose_residual"],
                   "static_amplitude_m": amp, "success": res.success})
 
 
