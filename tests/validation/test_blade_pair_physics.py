@@ -153,15 +153,15 @@ def test_first_resonance_with_30_omega_near_390_rpm(model):
 
 
 def test_campbell_without_friction_matches_independent_modal_solvers(model):
-    """No friction: (i) the Campbell frequencies equal the complex modes of the same system
-    from solvers/modal.py (generalised first-order pencil, an independent implementation),
-    1e-6 (the Campbell path takes the eigenvalues of the state matrix built with M^-1, a
-    non-normal matrix: for the close pair at 494.7 / 496.3 Hz (0.3 % apart) the two
-    paths differ by up to 1.3e-7 with the LAPACK of the current numpy/scipy wheels, 1e-9
-    with older ones; far below the 1e-3 the Campbell crossings need); (ii) at 200 rpm, where the gyroscopic coupling is negligible, the undamped
-    frequencies of (K(Omega), M) to 1e-4 (light damping shifts them by ~zeta^2/2); at
-    1800 rpm the gyroscopic terms split the close in-phase/out-of-phase pair by up to 0.1 %;
-    (iii) the eigenvalues number 2 n = 156."""
+    """No friction: (i) the Campbell frequencies equal the complex modes of the same system from
+    solvers/modal.py (generalised first-order pencil, an independent implementation), 1e-6
+    (the Campbell path takes the eigenvalues of the state matrix built with M^-1, a non-
+    normal matrix: for the close pair at 494.7 / 496.3 Hz (0.3 % apart) the two paths differ
+    by up to 1.3e-7 with the LAPACK of the current numpy/scipy wheels, 1e-9 with older ones;
+    far below the 1e-3 the Campbell crossings need); (ii) at 200 rpm, where the gyroscopic
+    coupling is negligible, the undamped frequencies of (K(Omega), M) to 1e-4 (light damping
+    shifts them by ~zeta^2/2); at 1800 rpm the gyroscopic terms split the close in-
+    phase/out-of-phase pair by up to 0.1 %; (iii) the eigenvalues number 2 n = 156."""
     from fricdamp.solvers.modal import modes
 
     rpm = [200.0, 1800.0]
