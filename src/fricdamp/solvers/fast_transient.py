@@ -47,7 +47,7 @@ from numba import njit
 
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ConvergenceError, ModelError
-from fricdamp.solvers.timestep import EnergyBalance
+from fricdamp.solvers.timestep import EnergyBalance, check_time_span
 from fricdamp.structure.system import MechanicalSystem
 
 __all__ = ["FastTransientResult", "StaticContactResult", "integrate_contact3d",
@@ -614,16 +614,7 @@ def integrate_contact3d(system: MechanicalSystem, t_end: float, dt: float, *, q0
     if system.loads:
         raise ModelError("integrate_contact3d handles a constant static_load only; use "
                          "simulate for time-dependent loads")
-    if not (np.isfinite(dt) and dt > 0):
-        raise ModelError(f"dt must be a finite time step > 0 s, got {dt!r}")
-    if not (np.isfinite(t_end) and t_end > t0):
-        raise ModelError(f"t_end must be > t0 = {t0} s, got {t_end!r}")
-    if method not in ("newmark", "hht"):
-        raise ModelError(f"method must be 'newmark' or 'hht', got {method!r}")
-    if method == "newmark":
-        alpha = 0.0
-    elif not (-1.0 / 3.0 <= alpha <= 0.0):
-        raise ModelError(f"alpha must lie in [-1/3, 0] for HHT-alpha, got {alpha!r}")
+    alpha = check_time_span(t_end, dt, t0=t0, method=method, alpha=alpha)
     if isinstance(save_every, bool) or int(save_every) < 1:
         raise ModelError(f"save_every must be an integer >= 1, got {save_every!r}")
     save_every = int(save_every)

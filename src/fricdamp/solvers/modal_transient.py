@@ -53,7 +53,7 @@ from fricdamp.solvers.fast_transient import (
     _contact_energy,
     _eval_contacts,
 )
-from fricdamp.solvers.timestep import EnergyBalance, _progress_default
+from fricdamp.solvers.timestep import EnergyBalance, _progress_default, check_time_span
 
 __all__ = ["ModalBasis", "ModalStaticResult", "ModalTransientResult", "contact_law_arrays",
            "integrate_modal", "solve_static_modal", "transient_compliance", "CyclicRows"]
@@ -953,16 +953,7 @@ def integrate_modal(basis: ModalBasis, laws, t_end: float, dt: float, *, eta0=No
     """
     if not isinstance(basis, ModalBasis):
         raise ModelError(f"basis must be a ModalBasis, got {type(basis).__name__}")
-    if not (np.isfinite(dt) and dt > 0):
-        raise ModelError(f"dt must be a finite time step > 0 s, got {dt!r}")
-    if not (np.isfinite(t_end) and t_end > t0):
-        raise ModelError(f"t_end must be > t0 = {t0} s, got {t_end!r}")
-    if method not in ("newmark", "hht"):
-        raise ModelError(f"method must be 'newmark' or 'hht', got {method!r}")
-    if method == "newmark":
-        alpha = 0.0
-    elif not (-1.0 / 3.0 <= alpha <= 0.0):
-        raise ModelError(f"alpha must lie in [-1/3, 0] for HHT-alpha, got {alpha!r}")
+    alpha = check_time_span(t_end, dt, t0=t0, method=method, alpha=alpha)
     for name, k in (("save_every", save_every), ("contact_every", contact_every)):
         if k is not None and (isinstance(k, bool) or int(k) != k or k < 1):
             raise ModelError(f"{name} must be an integer >= 1, got {k!r}")

@@ -73,6 +73,23 @@ def energy_balance_error(energy: dict) -> float:
     return float(np.max(np.abs(energy_residual(e))) / scale)
 
 
+def check_time_span(t_end, dt, *, t0: float = 0.0, method: str = "newmark",
+                    alpha: float = -0.05) -> float:
+    """Check the arguments every Newmark/HHT integrator takes; return the alpha to use
+    (0 for Newmark). Raises ModelError naming the argument and its range."""
+    if not (np.isfinite(dt) and dt > 0):
+        raise ModelError(f"dt must be a finite time step > 0 s, got {dt!r}")
+    if not (np.isfinite(t_end) and t_end > t0):
+        raise ModelError(f"t_end must be > t0 = {t0} s, got {t_end!r}")
+    if method not in ("newmark", "hht"):
+        raise ModelError(f"method must be 'newmark' or 'hht', got {method!r}")
+    if method == "newmark":
+        return 0.0
+    if not (-1.0 / 3.0 <= alpha <= 0.0):
+        raise ModelError(f"alpha must lie in [-1/3, 0] for HHT-alpha, got {alpha!r}")
+    return float(alpha)
+
+
 class EnergyBalance:
     """The energy-balance properties of a time history with an ``energy`` dict."""
 
@@ -325,16 +342,7 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
     """
     if not isinstance(system, MechanicalSystem):
         raise ModelError(f"system must be a MechanicalSystem, got {type(system).__name__}")
-    if not (np.isfinite(dt) and dt > 0):
-        raise ModelError(f"dt must be a finite time step > 0 s, got {dt!r}")
-    if not (np.isfinite(t_end) and t_end > t0):
-        raise ModelError(f"t_end must be > t0 = {t0} s, got {t_end!r}")
-    if method not in ("newmark", "hht"):
-        raise ModelError(f"method must be 'newmark' or 'hht', got {method!r}")
-    if method == "newmark":
-        alpha = 0.0
-    elif not (-1.0 / 3.0 <= alpha <= 0.0):
-        raise ModelError(f"alpha must lie in [-1/3, 0] for HHT-alpha, got {alpha!r}")
+    alpha = check_time_span(t_end, dt, t0=t0, method=method, alpha=alpha)
     if int(save_every) < 1:
         raise ModelError(f"save_every must be an integer >= 1, got {save_every!r}")
     save_every = int(save_every)
