@@ -1,7 +1,8 @@
 """Fast transients of small (reduced) models with 3D friction contacts, and static contact.
 
-:func:`integrate_contact3d` is a specialised path of :func:`fricdamp.solvers.timestep.simulate`
-for systems whose contacts are all :class:`~fricdamp.contact.element3d.Contact3D` elements
+:func:`integrate_contact3d` is the ``modal`` strategy of :func:`fricdamp.solvers.timestep.simulate`
+(``simulate(..., strategy="modal")`` calls it; the step is
+:class:`~fricdamp.solvers.newmark.NewmarkScheme`, shared by every transient solver) for systems whose contacts are all :class:`~fricdamp.contact.element3d.Contact3D` elements
 (constant or static/kinetic mu(v) friction) and whose damping is diagonal in the undamped
 modes (Rayleigh or modal damping; Craig-Bampton models of Rayleigh-damped structures
 are). It integrates **the same discrete equations** as ``simulate`` -- Newmark / HHT-alpha
@@ -47,6 +48,7 @@ from numba import njit
 
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.solvers.newmark import NewmarkScheme
 from fricdamp.solvers.timestep import EnergyBalance, check_time_span
 from fricdamp.structure.system import MechanicalSystem
 
@@ -386,7 +388,7 @@ def _contact_energy(u, w, kn, kt, g0):  # pragma: no cover - compiled
 @njit(cache=True, nogil=True)
 def _march(n_steps, save_every, coef, lam, cdmp, s_inv, B, BT, C, J0inv, chord, Fm,
            Phi_out, eta, vel, acc, u, f, w, s, code0, kn, kt, mus, mud, dc, g0, tol, max_iter,
-           T, Q, U, Fo, S, E):  # pragma: no cover - compiled
+           T, Q, U, Fo, S, E, Vo, Ao):  # pragma: no cover - compiled
     """Time loop; returns (status, n_newton, steps done, saved count)."""
     h, alpha, gamma, c0, c1, c2, c3, c4, c5, t0 = (coef[0], coef[1], coef[2], coef[3],
                                                   coef[4], coef[5], coef[6], coef[7],
@@ -412,8 +414,12 @@ def _march(n_steps, save_every, coef, lam, cdmp, s_inv, B, BT, C, J0inv, chord, 
     acc_cw = 0.0
     acc_cd = 0.0
     stored = _contact_energy(u, w, kn, kt, g0)
+    full_state = Vo.shape[0] > 0
     T[0] = t0
     Q[0] = Phi_out @ eta
+    if full_state:
+        Vo[0] = Phi_out @ vel
+        Ao[0] = Phi_out @ acc
     U[0] = u
     Fo[0] = f
     S[0] = code0
@@ -499,6 +505,9 @@ def _march(n_steps, save_every, coef, lam, cdmp, s_inv, B, BT, C, J0inv, chord, 
         if step % save_every == 0:
             T[k_save] = t0 + step * h
             Q[k_save] = Phi_out @ eta
+            if full_state:
+                Vo[k_save] = Phi_out @ vel
+                Ao[k_save] = Phi_out @ acc
             U[k_save] = u
             Fo[k_save] = f
             S[k_save] = code
@@ -559,7 +568,7 @@ def integrate_contact3d(system: MechanicalSystem, t_end: float, dt: float, *, q0
                         states0=None, t0: float = 0.0, method: str = "newmark",
                         alpha: float = -0.05, save_every: int = 1, output_dofs=None,
                         tol: float = 1e-10, max_iter: int = 30, chord: bool = True,
-                        throw: bool = True) -> FastTransientResult:
+                        throw: bool = True, full_state: bool = False) -> FastTransientResult:
     """Integrate a Contact3D system like :func:`~fricdamp.solvers.timestep.simulate`, fast.
 
     Parameters
@@ -599,6 +608,9 @@ def integrate_contact3d(system: MechanicalSystem, t_end: float, dt: float, *, q0
     throw : bool
         Raise :class:`ConvergenceError` on a Newton failure (default) or return the
         history up to it with ``success=False``.
+    full_state : bool
+        Also store velocities and accelerations of ``output_dofs`` (in ``meta["v"]`` and
+        ``meta["a"]``; what ``simulate(..., strategy="modal")`` returns).
 
     Returns
     -------
@@ -646,14 +658,9 @@ def integrate_contact3d(system: MechanicalSystem, t_end: float, dt: float, *, q0
                              "undamped modes (Rayleigh or modal damping); use simulate")
         P = _stack_projection(system)
         B = np.ascontiguousarray(np.asarray(P @ Phi))
-        beta = (1.0 - alpha) ** 2 / 4.0
-        gamma = 0.5 - alpha
-        h = float(dt)
-        c0, c1 = 1.0 / (beta * h * h), gamma / (beta * h)
-        c2, c3 = 1.0 / (beta * h), 1.0 / (2.0 * beta) - 1.0
-        c4, c5 = 1.0 - gamma / beta, h * (1.0 - gamma / (2.0 * beta))
-        ap = 1.0 + alpha
-        s_inv = 1.0 / (c0 + ap * (c1 * cd + lam))
+        scheme = NewmarkScheme(dt, alpha)
+        h, ap = scheme.h, scheme.ap
+        s_inv = scheme.modal_inverse(cd, lam)
         C = np.ascontiguousarray((B * s_inv) @ B.T)
         # chord matrix: the Newton matrix with every contact closed and stuck
         m = B.shape[0]
@@ -686,14 +693,17 @@ def integrate_contact3d(system: MechanicalSystem, t_end: float, dt: float, *, q0
         Fo = np.zeros((n_save, u.size))
         S = np.zeros((n_save, nc), dtype=np.int8)
         E = np.zeros((n_save, len(ENERGY_KEYS)))
-        coef = np.array([h, alpha, gamma, c0, c1, c2, c3, c4, c5, t0])
+        coef = scheme.coefficients(t0)
+        n_full = n_save if full_state else 0
+        Vo = np.zeros((n_full, out.size))
+        Ao = np.zeros((n_full, out.size))
         setup = time.perf_counter() - tic
         tic = time.perf_counter()
         status, n_newton, done, k = _march(
             n_steps, save_every, coef, lam, cd, s_inv, B, BT, C, J0inv, bool(chord), Fm,
             Phi_out, eta, vel, acc,
             u, f, w, s, code, kn, kt, mus, mud, dc, g0, float(tol), int(max_iter), T, Q, U, Fo,
-            S, E)
+            S, E, Vo, Ao)
         runtime = time.perf_counter() - tic
     message = "finished"
     if status != 0:
@@ -709,5 +719,6 @@ def integrate_contact3d(system: MechanicalSystem, t_end: float, dt: float, *, q0
         q_final=Phi @ eta, v_final=Phi @ vel, states_final=_join_states(laws, w, s),
         output_dofs=out, success=status == 0, status=int(status), message=message,
         n_steps=int(done), n_newton=int(n_newton), runtime_s=runtime, setup_s=setup,
-        method="newmark" if alpha == 0 else f"hht(alpha={alpha:g})",
-        meta={"n_modes": int(lam.size), "n_contact_rows": int(u.size)})
+        method=scheme.method,
+        meta={"n_modes": int(lam.size), "n_contact_rows": int(u.size),
+              **({"v": Vo[:k], "a": Ao[:k]} if full_state else {})})

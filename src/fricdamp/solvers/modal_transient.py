@@ -53,6 +53,7 @@ from fricdamp.solvers.fast_transient import (
     _contact_energy,
     _eval_contacts,
 )
+from fricdamp.solvers.newmark import NewmarkScheme
 from fricdamp.solvers.timestep import EnergyBalance, _progress_default, check_time_span
 
 __all__ = ["ModalBasis", "ModalStaticResult", "ModalTransientResult", "contact_law_arrays",
@@ -644,14 +645,11 @@ def _block_matrix(K):
 
 # =================================================================================== transient
 def _newmark(basis: ModalBasis, h: float, alpha: float):
-    """Newmark/HHT coefficients, gamma, 1 + alpha and the inverse effective stiffness."""
-    beta = (1.0 - alpha) ** 2 / 4.0
-    gamma = 0.5 - alpha
-    c = (1.0 / (beta * h * h), gamma / (beta * h), 1.0 / (beta * h), 1.0 / (2.0 * beta) - 1.0,
-         1.0 - gamma / beta, h * (1.0 - gamma / (2.0 * beta)))
-    ap = 1.0 + alpha
-    s_inv = 1.0 / (c[0] + ap * (c[1] * basis.damping + basis.omega2))
-    return c, gamma, ap, s_inv
+    """Newmark/HHT coefficients, gamma, 1 + alpha and the inverse effective stiffness (the
+    scheme of :class:`~fricdamp.solvers.newmark.NewmarkScheme`)."""
+    scheme = NewmarkScheme(h, alpha)
+    return scheme.c, scheme.gamma, scheme.ap, scheme.modal_inverse(basis.damping,
+                                                                   basis.omega2)
 
 
 def transient_compliance(basis: ModalBasis, dt: float, *, method: str = "newmark",

@@ -1,5 +1,9 @@
 """Implicit time stepping: Newmark (average acceleration) and HHT-alpha, Newton on contacts.
 
+This is the ``direct`` strategy of the one scheme of :mod:`fricdamp.solvers.newmark`;
+``simulate(..., strategy="modal")`` runs the compiled modal strategy of
+:mod:`fricdamp.solvers.fast_transient` on the same discrete equations.
+
 The step equation of HHT-alpha (Hilber, Hughes & Taylor 1977), ``alpha`` in [-1/3, 0],
 ``beta = (1 - alpha)^2 / 4``, ``gamma = (1 - 2 alpha) / 2`` (``alpha = 0``: Newmark's
 average-acceleration rule, unconditionally stable, no numerical damping)::
@@ -37,6 +41,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.solvers.newmark import STRATEGIES, NewmarkScheme
 from fricdamp.structure.system import MechanicalSystem
 
 log = logging.getLogger(__name__)
@@ -294,7 +299,8 @@ class _Factor:
 def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=None,
              t0: float = 0.0, states0=None, method: str = "newmark", alpha: float = -0.05,
              save_every: int = 1, tol: float = 1e-10, max_iter: int = 30,
-             progress: bool | None = None, throw: bool = True) -> TimeResult:
+             progress: bool | None = None, throw: bool = True,
+             strategy: str = "direct") -> TimeResult:
     """Integrate ``system`` from ``t0`` to ``t_end`` with a constant step ``dt``.
 
     Parameters
@@ -327,6 +333,18 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
     throw : bool
         Raise :class:`ConvergenceError` if a step fails (default); with ``False`` return the
         history up to the failure with ``success=False`` and the reason in ``message``.
+    strategy : {"direct", "modal", "auto"}
+        How the linear part of each step of the one Newmark/HHT scheme
+        (:class:`~fricdamp.solvers.newmark.NewmarkScheme`) is solved. ``"direct"``: the
+        effective stiffness factorised once, any contact law and load (default).
+        ``"modal"``: in the undamped modes, whole time loop compiled
+        (:func:`~fricdamp.solvers.fast_transient.integrate_contact3d`): all contacts
+        :class:`~fricdamp.contact.element3d.Contact3D`, damping diagonal in the modes
+        (Rayleigh, modal), a constant ``static_load`` only, up to a few thousand DOFs (a
+        dense eigenproblem); the same discrete equations, so both agree to the Newton
+        tolerance, typically 10-100x faster. ``"auto"``: ``"modal"`` where it applies,
+        else ``"direct"``. The modal strategy stores the contact status (0 open, 1 stick,
+        2 slip) in ``meta["contact_status"]``.
 
     Returns
     -------
@@ -364,6 +382,13 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
                 raise ModelError(f"states0 of contact {c.name!r} must have shape {shape}, got "
                                  f"{np.shape(st)}")
         states0 = [np.array(st, dtype=float) for st in states0]
+    if strategy not in STRATEGIES:
+        raise ModelError(f"strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
+    if strategy == "auto":
+        strategy = "modal" if _modal_applies(system) else "direct"
+    if strategy == "modal":
+        return _simulate_modal(system, t_end, dt, q, v, t0, states0, method, alpha,
+                               save_every, tol, max_iter, throw)
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
     start = time.perf_counter()
     from threadpoolctl import threadpool_limits
@@ -375,17 +400,69 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
     return out
 
 
+MODAL_MAX_DOF = 3000   # the modal strategy solves a dense eigenproblem of the whole model
+
+
+def _modal_applies(system: MechanicalSystem) -> bool:
+    """Whether ``strategy="modal"`` can take ``system`` (the damping check needs the modes
+    and is made by the modal strategy itself, which then raises)."""
+    from fricdamp.contact.element3d import Contact3D
+
+    return (bool(system.contacts) and not system.loads and system.n_dof <= MODAL_MAX_DOF
+            and all(isinstance(c.law, Contact3D) for c in system.contacts)
+            and _proportional_damping(system))
+
+
+def _proportional_damping(system: MechanicalSystem) -> bool:
+    """``D`` of the form ``a M + b K`` (Rayleigh, checked on the stored entries), the case
+    the modal strategy is for; other damping may still be modal, which it checks."""
+    def dense(A):
+        return A.toarray() if sp.issparse(A) else np.asarray(A, dtype=float)
+
+    D = dense(system.D)
+    if not np.any(D):
+        return True
+    M, K = dense(system.M), dense(system.K)
+    A = np.column_stack([M.ravel(), K.ravel()])
+    coef, *_ = np.linalg.lstsq(A, D.ravel(), rcond=None)
+    return bool(np.abs(A @ coef - D.ravel()).max() <= 1e-10 * np.abs(D).max())
+
+
+def _simulate_modal(system, t_end, dt, q, v, t0, states0, method, alpha, save_every, tol,
+                    max_iter, throw) -> TimeResult:
+    """``simulate`` through the compiled modal strategy, returned as a TimeResult."""
+    from fricdamp.solvers.fast_transient import integrate_contact3d
+
+    start = time.perf_counter()
+    res = integrate_contact3d(system, t_end, dt, q0=q, v0=v, states0=states0, t0=t0,
+                              method=method, alpha=alpha, save_every=save_every, tol=tol,
+                              max_iter=max_iter, throw=throw, full_state=True)
+    cu, cf, k = [], [], 0
+    for c in system.contacts:
+        sl = slice(k, k + c.n_contacts)
+        cu.append(res.contact_displacement[:, sl].copy())
+        cf.append(res.contact_force[:, sl].copy())
+        k += c.n_contacts
+    meta = {"strategy": "modal", "contact_status": res.contact_status,
+            "setup_s": res.setup_s, "q_final": res.q_final, "v_final": res.v_final,
+            "states_final": res.states_final, **{kk: vv for kk, vv in res.meta.items()
+                                                  if kk not in ("v", "a")}}
+    return TimeResult(
+        t=res.t, q=res.q, v=res.meta["v"], a=res.meta["a"], contact_displacement=tuple(cu),
+        contact_force=tuple(cf), energy=res.energy, success=res.success, status=res.status,
+        message=res.message, n_steps=res.n_steps, n_newton=res.n_newton,
+        runtime_s=time.perf_counter() - start, method=res.method, dof_names=system.names,
+        contact_names=tuple(c.name for c in system.contacts), meta=meta)
+
+
 def _integrate(system, q, v, t0, h, n_steps, alpha, save_every, tol, max_iter, progress, throw,
                states0=None):
     M, D, K = system.M, system.D, system.K
-    beta = (1.0 - alpha) ** 2 / 4.0
-    gamma = 0.5 - alpha
-    c0, c1 = 1.0 / (beta * h * h), gamma / (beta * h)
-    c2, c3 = 1.0 / (beta * h), 1.0 / (2.0 * beta) - 1.0
-    c4, c5 = 1.0 - gamma / beta, h * (1.0 - gamma / (2.0 * beta))
-    ap = 1.0 + alpha
+    scheme = NewmarkScheme(h, alpha)
+    c0, c1, c2, c3, c4, c5 = scheme.c
+    ap = scheme.ap
 
-    S = c0 * M + ap * (c1 * D + K)
+    S = scheme.effective(M, D, K)
     fac = _Factor(S)
     cs = _Contacts(system)
     P = cs.P
@@ -464,7 +541,7 @@ def _integrate(system, q, v, t0, h, n_steps, alpha, save_every, tol, max_iter, p
             converged = False
             res_norm = np.inf
             for _ in range(max_iter + 1):
-                vv = c1 * (un - u_n) + c4 * uv_n + c5 * ua_n if cs.velocity_dependent else None
+                vv = scheme.velocity_of(un - u_n, uv_n, ua_n) if cs.velocity_dependent else None
                 f_new, Ku, Kv, st_new = cs.evaluate(states, un, vv)
                 g = un - u_lin + ap * (C @ f_new)
                 res_norm = np.max(np.abs(g))
@@ -489,8 +566,8 @@ def _integrate(system, q, v, t0, h, n_steps, alpha, save_every, tol, max_iter, p
         else:
             f_new, st_new, un = fc, states, u
             q1 = q_lin
-        a1 = c0 * (q1 - q) - c2 * v - c3 * a
-        v1 = v + h * ((1.0 - gamma) * a + gamma * a1)
+        a1 = scheme.acceleration(q1 - q, v, a)
+        v1 = scheme.velocity(v, a, a1)
         dq = q1 - q
         acc["input_work"] += 0.5 * float(dq @ (F + F1))
         Dv1 = D @ v1
@@ -518,6 +595,6 @@ def _integrate(system, q, v, t0, h, n_steps, alpha, save_every, tol, max_iter, p
         contact_force=tuple(x[:k] for x in CF),
         energy={key: val[:k] for key, val in E.items()},
         success=status == 0, status=status, message=message, n_steps=step if n_steps else 0,
-        n_newton=n_newton, method="newmark" if alpha == 0 else f"hht(alpha={alpha:g})",
+        n_newton=n_newton, method=scheme.method,
         dof_names=system.names, contact_names=tuple(c.name for c in cs.elements),
     )
