@@ -1,8 +1,9 @@
 """Fast transients of small (reduced) models with 3D friction contacts, and static contact.
 
-:func:`integrate_contact3d` is the ``modal`` strategy of :func:`fricdamp.solvers.timestep.simulate`
-(``simulate(..., strategy="modal")`` calls it; the step is
-:class:`~fricdamp.solvers.newmark.NewmarkScheme`, shared by every transient solver) for systems whose contacts are all :class:`~fricdamp.contact.element3d.Contact3D` elements
+:func:`integrate_contact3d` is the ``modal`` strategy of
+:func:`fricdamp.solvers.timestep.simulate` (``simulate(..., strategy="modal")`` calls it; the
+step is :class:`~fricdamp.solvers.newmark.NewmarkScheme`, shared by every transient solver)
+for systems whose contacts are all :class:`~fricdamp.contact.element3d.Contact3D` elements
 (constant or static/kinetic mu(v) friction) and whose damping is diagonal in the undamped
 modes (Rayleigh or modal damping; Craig-Bampton models of Rayleigh-damped structures
 are). It integrates **the same discrete equations** as ``simulate`` -- Newmark / HHT-alpha
