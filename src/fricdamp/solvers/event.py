@@ -96,6 +96,25 @@ class SwitchEvent:
 
 
 @dataclass(frozen=True)
+class PhaseRecord:
+    """One smooth phase of a run (kept when the run is traced, e.g. by shooting).
+
+    ``y_pre`` is the state (q, q') handed to the phase before the projection onto its
+    constraints, ``y_end`` the state at ``t_end`` (left limit); ``hit`` the event that ended
+    the phase (None at the end of the run); ``modes`` and ``sigma`` its configuration.
+    """
+
+    phase: object
+    t_start: float
+    t_end: float
+    hit: object
+    modes: np.ndarray
+    sigma: np.ndarray
+    y_pre: tuple
+    y_end: tuple
+
+
+@dataclass(frozen=True)
 class EventResult:
     """Stick-slip time history from :func:`simulate_events`.
 
@@ -368,6 +387,8 @@ class _Run:
         self.n_events = self.n_phases = self.n_decisions = 0
         self.n_rhs = self.n_expm = 0
         self.proj_energy = 0.0
+        #: optional list of PhaseRecord (shooting's variational equations need the phases)
+        self.trace: list | None = None
 
     # ------------------------------------------------------------ start and decisions
     def start(self, q, qd):
@@ -422,6 +443,7 @@ class _Run:
     def loop(self, max_events):
         zeno = 0
         while True:
+            y_pre = (self.q, self.qd) if self.trace is not None else None
             self._project(self.modes)
             phase = self._phase()
             self.n_phases += 1
@@ -429,6 +451,10 @@ class _Run:
                 hit = phase.advance(self.t1)
                 t_stop = self.t1 if hit is None else hit.t
                 q_stop, qd_stop = self._record(phase, t_stop, last=hit is None)
+            if self.trace is not None:
+                self.trace.append(PhaseRecord(phase, float(phase.t0), float(t_stop), hit,
+                                              self.modes.copy(), self.sigma.copy(), y_pre,
+                                              (q_stop, qd_stop)))
             self.n_rhs += getattr(phase, "n_rhs", 0)
             self.n_expm += getattr(phase, "n_expm", 0)
             if hit is None:

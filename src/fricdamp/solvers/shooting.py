@@ -1,0 +1,752 @@
+"""Periodic orbits of stick-slip systems by shooting through exact switching events.
+
+The stroboscopic (Poincare) map of a system forced with period ``T`` is the flow of the
+event-driven solver (:func:`fricdamp.solvers.event.simulate_events`, exact set-valued Coulomb
+friction, no regularisation) over ``n T``:
+
+    P(y0) = y(t0 + n T; t0, y0),          y = [q, q'],
+
+and a period-n orbit is a fixed point ``P(y0) = y0``, found by Newton's method with the
+Jacobian ``dP/dy0 - I``. ``dP/dy0`` is the **monodromy matrix**: the product, phase by phase,
+of the projection onto the phase's constraints, the state-transition matrix of the phase
+(its variational equations) and the saltation matrix of the event that ends it. Its
+eigenvalues are the Floquet multipliers; they are exact for stick-slip because the jumps
+of the vector field at the switches enter through the saltation matrices rather than being
+smoothed away.
+
+Variational equations of a phase
+--------------------------------
+In a phase of fixed configuration (stuck set S, slip directions s) the state obeys a smooth
+``y' = f(t, y)``, and a perturbation ``dy' = (df/dy) dy``. For a system with a
+:class:`~fricdamp.solvers.event_system.LinearForm` the phase is the linear map of
+:mod:`fricdamp.solvers.event_exact`, ``X(t) = exp(A (t - t0)) X(t0)`` with ``X(t0) = S0 y +
+(load states)`` and ``y = E X``, so its transition matrix is exact:
+``Phi = E exp(A dt) S0``. For a general
+:class:`~fricdamp.solvers.event_system.ConstrainedSystem` ``df/dy`` is the central difference
+of the configuration's vector field (the accelerations of the configuration solve, 000 (37)-(40))
+and ``Phi' = (df/dy) Phi`` is integrated by DOP853 along the phase's dense output.
+At the start of each phase the solver projects the state onto the phase's constraints
+(closed normal gaps, zero slip velocity of the stuck contacts, M-orthogonally); its Jacobian
+``Pi`` multiplies ``Phi`` (analytic for a LinearForm, central differences otherwise).
+
+Saltation matrices (derived here)
+---------------------------------
+A phase ends when an event function ``h(t, y)`` of its configuration reaches zero at ``t_e``
+(vector field ``f-`` before, ``f+`` after, the state continuous). A perturbation ``dy-`` of the
+state just before the event moves the event to ``t_e + dt_e`` with, to first order,
+``h_y . (dy- + f- dt_e) + h_t dt_e = 0``, i.e. ``dt_e = -h_y . dy- / hdot`` with
+``hdot = h_y . f- + h_t`` the rate of h along the arriving flow (transversality: hdot != 0).
+Between ``t_e`` and ``t_e + dt_e`` the perturbed motion follows the other field, so
+``dy+ = dy- + (f- - f+) dt_e``, and
+
+    S = I + (f+ - f-) h_y^T / hdot.
+
+For the three stick-slip events, with ``gamma_i = W_T,i^T q'`` the slip velocity of contact i,
+``a_i`` its rate, ``w_i = W_T,i`` and ``Delta qdd`` the jump of the accelerations (positions
+and velocities are continuous, so ``f+ - f- = [0, Delta qdd]``):
+
+* **slip -> stick** (000 (41)): ``h = s_i gamma_i``, ``h_y = s_i [d(W_T,i^T q')/dq, w_i]``,
+  ``hdot = s_i a_i-`` (the relative deceleration that brings the contact to rest). In stick
+  ``a_i+ = 0`` so ``h_y^T S = h_y^T (1 - hdot / hdot) = 0``: every perturbation leaves the
+  event on the stick manifold, and each stuck contact contributes a zero multiplier.
+* **slip reversal** (``s_i -> -s_i`` without sticking, ``mu_static |lambda_N|`` exceeded at
+  once): same ``h`` and ``hdot``; for fixed normal load ``Delta qdd = M^-1 w_i 2 mu_sliding N_i
+  s_i``, and ``det S = 1 + h_y . (f+ - f-) / hdot = a_i+ / a_i-``: the ratio of the relative
+  accelerations after and before the reversal (< 1 in magnitude for the den Hartog oscillator:
+  friction opposes the motion on both sides).
+* **stick -> slip** (000 (43)): ``h(t, y) = mu_static |lambda_N| -+ lambda_T,i(t, y)`` (the
+  friction reserve of the stuck configuration, lambda_T the stick multiplier); ``hdot`` is its
+  rate along the stuck flow, and ``Delta qdd = M^-1 w_i (lambda_T+ - lambda_T-)`` with the
+  force dropping from ``+-mu_static |lambda_N|`` to ``+-mu_sliding |lambda_N|``. With
+  ``mu_static = mu_sliding`` the field is continuous and ``S = I``.
+
+An event that keeps the configuration (grazing, a sign change of a constrained normal force
+with the friction law written with ``|lambda_N|``) has ``f+ = f-`` and ``S = I``. Several
+functions vanishing at once (a corner of the switching surfaces) have no unique saltation
+matrix: the first one is used and the orbit is flagged (``n_simultaneous``).
+
+References
+----------
+Leine & Nijmeijer (2004), Dynamics and Bifurcations of Non-Smooth Mechanical Systems, ch. 2-3
+(saltation matrix, Filippov systems); Aizerman & Gantmakher (1958); den Hartog (1931);
+paper 000 (29)-(46).
+"""
+
+from __future__ import annotations
+
+import logging
+import time as _time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar
+
+from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.solvers.event import _Run
+from fricdamp.solvers.event_exact import ExactPhase
+from fricdamp.solvers.event_switch import STICK
+from fricdamp.solvers.event_system import ConstrainedSystem
+
+log = logging.getLogger(__name__)
+
+_EPS = np.finfo(float).eps
+
+
+# =====================================================================================
+# traced flow and monodromy
+# =====================================================================================
+@dataclass(frozen=True)
+class Flow:
+    """One traced run of the event-driven solver with its monodromy matrix.
+
+    Attributes
+    ----------
+    y_end : ndarray, shape (2 n_dof,)
+        State ``[q, q']`` at the end of the run.
+    monodromy : ndarray, shape (2 n_dof, 2 n_dof)
+        ``d y_end / d y0`` (projections, phase transitions and saltation matrices).
+    result : EventResult
+        The run's samples and events.
+    n_simultaneous : int
+        Events where several event functions vanished together (no unique saltation matrix).
+    """
+
+    y_end: np.ndarray
+    monodromy: np.ndarray
+    result: object
+    trace: list = field(repr=False)
+    n_simultaneous: int = 0
+
+
+class _Linearizer:
+    """Jacobians of a traced run (projection, phase transition, saltation)."""
+
+    def __init__(self, run: _Run, rtol: float, atol: float):
+        self.run = run
+        self.ev = run.ev
+        self.n = run.ev.n
+        self.linear = run.lf is not None
+        self.rtol, self.atol = rtol, atol
+        if self.linear:
+            lf = run.lf
+            self.Minv = np.linalg.inv(lf.M)
+            self.MinvW = self.Minv @ lf.tangent
+            self.Del = lf.tangent.T @ self.MinvW
+
+    # -------------------------------------------------------------- vector fields
+    def field(self, t, y, modes, sigma):
+        """[q', q''] of configuration ``modes`` at (t, y) (general systems)."""
+        n = self.n
+        pt = self.ev.point(t, y[:n], y[n:])
+        qdd = self.ev.solve(pt, np.asarray(modes), np.asarray(sigma))[0][:, 0]
+        return np.concatenate([y[n:], qdd])
+
+    def _steps(self, y):
+        n = self.n
+        sq = max(np.abs(y[:n]).max(), 1e-300)
+        sv = max(np.abs(y[n:]).max(), 1e-300)
+        scale = np.concatenate([np.maximum(np.abs(y[:n]), sq), np.maximum(np.abs(y[n:]), sv)])
+        return 6e-6 * scale
+
+    def _fd(self, fun, y):
+        """Central-difference Jacobian of fun at y (columns scaled by the state's size)."""
+        steps = self._steps(y)
+        cols = []
+        for j, hj in enumerate(steps):
+            e = np.zeros_like(y)
+            e[j] = hj
+            cols.append((np.asarray(fun(y + e)) - np.asarray(fun(y - e))) / (2 * hj))
+        return np.column_stack(cols)
+
+    # -------------------------------------------------------------- projections
+    def projection(self, rec, stuck_extra=None):
+        """Jacobian of the projection at the start of phase ``rec``."""
+        n = self.n
+        modes = np.array(rec.modes)
+        if stuck_extra is not None:
+            modes = np.where(stuck_extra, STICK, modes)
+        if self.linear:
+            S = np.flatnonzero(modes == STICK)
+            P = np.eye(2 * n)
+            if S.size:
+                W = self.run.lf.tangent[:, S]
+                P[n:, n:] -= self.MinvW[:, S] @ np.linalg.pinv(self.Del[np.ix_(S, S)]) @ W.T
+            return P
+        if not (self.ev.constrained.any() or (modes == STICK).any()):
+            return np.eye(2 * n)
+        t = rec.t_start
+
+        def proj(y):
+            q, qd, _ = self.ev.project(t, y[:n], y[n:], modes)
+            return np.concatenate([q, qd])
+
+        y = np.concatenate(rec.y_pre)
+        return self._fd(proj, y)
+
+    # -------------------------------------------------------------- phase transition
+    def transition(self, rec):
+        n = self.n
+        ph = rec.phase
+        dt = rec.t_end - rec.t_start
+        if isinstance(ph, ExactPhase):
+            c = ph.cfg
+            E = np.vstack([c.Eq, c.Eqd])
+            return E @ sla.expm(c.A * dt) @ c.S0
+        if dt <= 0:
+            return np.eye(2 * n)
+
+        def ystate(t):
+            return ph.y(np.array([t]))[:2 * n, 0]
+
+        def rhs(t, phi):
+            y = ystate(t)
+            J = self._fd(lambda yy: self.field(t, yy, rec.modes, rec.sigma), y)
+            return (J @ phi.reshape(2 * n, 2 * n)).ravel()
+
+        sol = solve_ivp(rhs, (rec.t_start, rec.t_end), np.eye(2 * n).ravel(), method="DOP853",
+                        rtol=self.rtol, atol=self.atol)
+        if not sol.success:
+            raise ConvergenceError(f"variational equations failed in the phase starting at "
+                                   f"t = {rec.t_start:.10g} s: {sol.message}")
+        return sol.y[:, -1].reshape(2 * n, 2 * n)
+
+    # -------------------------------------------------------------- saltation
+    def saltation(self, rec, nxt):
+        """Saltation matrix of the event ending ``rec``; ``nxt`` is the next phase of
+        positive duration (its configuration and start state give f+)."""
+        n = self.n
+        if nxt is None or np.array_equal(nxt.modes, rec.modes):
+            return np.eye(2 * n), 0
+        fired = np.asarray(rec.hit.fired)
+        ph = rec.phase
+        contacts = ph.contacts[fired]
+        changed = np.flatnonzero(np.asarray(nxt.modes) != np.asarray(rec.modes))
+        # the event function of a contact whose mode changed (the others only grazed)
+        pick = [k for k, c in zip(fired, contacts, strict=True) if c in changed]
+        i = pick[0] if pick else int(fired[0])
+        n_sim = int(len(set(ph.contacts[pick].tolist())) > 1) if pick else 0
+        t = rec.t_end
+        if isinstance(ph, ExactPhase):
+            c = ph.cfg
+            X = ph.X(np.array([t]))[:, 0]
+            E = np.vstack([c.Eq, c.Eqd])
+            f_minus = E @ (c.A @ X)
+            grad = c.Eev[i] @ c.S0
+            hdot = float(c.Eev_d[i] @ X)
+            c2 = nxt.phase.cfg
+            f_plus = np.vstack([c2.Eq, c2.Eqd]) @ (c2.A @ nxt.phase.X0)
+        else:
+            y = np.concatenate(rec.y_end)
+            f_minus = self.field(t, y, rec.modes, rec.sigma)
+
+            def g(tt, yy):
+                return ph._g(tt, np.concatenate([yy, np.zeros(3)]))[0][i]
+
+            grad = self._fd(lambda yy: np.array([g(t, yy)]), y)[0]
+            dt = 1e-6 * max(rec.t_end - rec.t_start, abs(t) * 1e-3, 1e-12)
+            hdot = (g(t + dt, y + dt * f_minus) - g(t - dt, y - dt * f_minus)) / (2 * dt)
+            y2 = np.asarray(nxt.phase.y0[:2 * n])
+            f_plus = self.field(t, y2, nxt.modes, nxt.sigma)
+        if hdot == 0 or not np.isfinite(hdot):
+            raise ConvergenceError(f"event at t = {t:.10g} s is not transversal (the event "
+                                   "function's rate is zero: grazing); no saltation matrix")
+        return np.eye(2 * n) + np.outer(f_plus - f_minus, grad) / hdot, n_sim
+
+
+def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "auto",
+         rtol: float = 1e-10, atol: float = 1e-12, max_events: int = 100_000,
+         max_step: float = np.inf, monodromy: bool = True) -> Flow:
+    """Event-driven flow over ``t_span`` from ``y0`` with its monodromy matrix.
+
+    Parameters
+    ----------
+    system : ConstrainedSystem
+        System with stick-slip contacts (e.g. :class:`CoulombSystem`).
+    t_span : (float, float)
+        Start and end time [s].
+    y0 : array_like, shape (2 n_dof,)
+        ``[q, q']`` at ``t_span[0]`` [m, m/s].
+    t_eval : array_like, optional
+        Sample times of the returned history (default: both ends).
+    method, rtol, atol, max_events, max_step
+        As in :func:`~fricdamp.solvers.event.simulate_events` (rtol/atol also set the
+        accuracy of the variational equations of DOP853 phases).
+    monodromy : bool
+        Compute ``d y_end / d y0`` (False: the flow only, monodromy is NaN).
+
+    Returns
+    -------
+    Flow
+    """
+    if not isinstance(system, ConstrainedSystem):
+        raise ModelError(f"system must be a ConstrainedSystem, got {type(system).__name__}")
+    system.check()
+    t0, t1 = (float(v) for v in t_span)
+    n = int(system.n_dof)
+    y = as_finite_array("y0", y0)
+    if y.shape != (2 * n,):
+        raise ModelError(f"y0 must hold [q, q'] with {2 * n} entries, got {y.shape}")
+    if method not in ("auto", "exact", "dop853"):
+        raise ModelError(f"method must be 'auto', 'exact' or 'dop853', got {method!r}")
+    lf = system.linear_form() if method in ("auto", "exact") else None
+    if method == "exact" and lf is None:
+        raise ModelError("method='exact' needs a system with a linear form")
+    te = np.array([t0, t1]) if t_eval is None else np.asarray(t_eval, float)
+    wall = _time.perf_counter()
+    run = _Run(system, lf, t0, t1, te, rtol, atol, max_step)
+    run.trace = []
+    run.start(y[:n], y[n:])
+    status, message = run.loop(int(max_events))
+    if status != 0:
+        raise ConvergenceError(message)
+    res = run.result(status, message, _time.perf_counter() - wall)
+    trace = run.trace
+    y_end = np.concatenate(trace[-1].y_end)
+    if not monodromy:
+        return Flow(y_end, np.full((2 * n, 2 * n), np.nan), res, trace, 0)
+    lin = _Linearizer(run, min(rtol, 1e-8), atol)
+    # contacts put at rest by the start decision are projected too
+    gam = system.tangent_jacobian(y[:n]).T @ y[n:] if n else np.zeros(0)
+    start_stuck = np.asarray(trace[0].modes) == STICK
+    start_stuck |= np.abs(gam) == 0
+    Phi = np.eye(2 * n)
+    n_sim = 0
+    positive = [k for k, r in enumerate(trace) if r.t_end > r.t_start or r.hit is None]
+    for idx, k in enumerate(positive):
+        rec = trace[k]
+        P = lin.projection(rec, start_stuck if idx == 0 else None)
+        Phi = lin.transition(rec) @ (P @ Phi)
+        if rec.hit is not None:
+            nxt = trace[positive[idx + 1]] if idx + 1 < len(positive) else None
+            S, sim = lin.saltation(rec, nxt)
+            n_sim += sim
+            Phi = S @ Phi
+    return Flow(y_end, Phi, res, trace, n_sim)
+
+
+# =====================================================================================
+# periodic orbits
+# =====================================================================================
+@dataclass(frozen=True)
+class PeriodicOrbit:
+    """A periodic orbit found by shooting.
+
+    Attributes
+    ----------
+    period : float
+        Excitation period T [s]; the orbit's period is ``period_multiple * T``.
+    period_multiple : int
+        n of the period-n orbit.
+    t0 : float
+        Time of the Poincare section [s].
+    y0 : ndarray, shape (2 n_dof,)
+        ``[q, q']`` on the orbit at ``t0`` [m, m/s].
+    amplitude : ndarray, shape (n_dof,)
+        Half peak-to-peak displacement over the orbit [m] (extrema located on the exact
+        solution, not on samples).
+    multipliers : ndarray of complex, shape (2 n_dof,)
+        Floquet multipliers (eigenvalues of the monodromy matrix over ``n T``), by
+        decreasing modulus. Each stuck contact and each constrained normal gives zeros.
+    monodromy : ndarray, shape (2 n_dof, 2 n_dof)
+    stable : bool
+        All multipliers inside the unit circle (``max |mu| < 1 - stability_margin``).
+    success : bool
+        Newton converged (``residual <= tol``).
+    residual : float
+        ``max |P(y0) - y0|`` scaled per component by the orbit's largest |q| and |q'|.
+    iterations : int
+    message : str
+    t, q, qd : ndarray, shapes (n_t,), (n_t, n_dof), (n_t, n_dof)
+        Samples over one orbit (plus event times).
+    modes : ndarray of int8, shape (n_t, n_contacts)
+    n_events : int
+        Switching events per orbit.
+    n_simultaneous : int
+        Events where several switching functions vanished together.
+    method : str
+        ``"exact"`` or ``"dop853"``.
+    runtime_s : float
+    dof_names : tuple of str
+    """
+
+    period: float
+    period_multiple: int
+    t0: float
+    y0: np.ndarray
+    amplitude: np.ndarray
+    multipliers: np.ndarray
+    monodromy: np.ndarray
+    stable: bool
+    success: bool
+    residual: float
+    iterations: int
+    message: str
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    modes: np.ndarray
+    n_events: int
+    n_simultaneous: int
+    method: str
+    runtime_s: float
+    dof_names: tuple = ()
+
+    @property
+    def omega(self) -> float:
+        """Excitation circular frequency 2 pi / T [rad/s]."""
+        return 2 * np.pi / self.period
+
+    @property
+    def floquet_multipliers_abs(self) -> np.ndarray:
+        return np.abs(self.multipliers)
+
+    def summary(self) -> dict:
+        """JSON-able key numbers (the ``periodic_orbit`` results contract)."""
+        return {
+            "amplitude_m": [float(a) for a in self.amplitude],
+            "period_multiple": int(self.period_multiple),
+            "floquet_multipliers_abs": [float(a) for a in self.floquet_multipliers_abs],
+            "stable": bool(self.stable),
+            "converged": bool(self.success),
+            "residual": float(self.residual),
+        }
+
+    def plot(self, dofs=None, axes=None):
+        """Phase portrait q' vs q of the orbit; returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if axes is None:
+            _, axes = plt.subplots(figsize=(5, 4))
+        for i in (range(self.q.shape[1]) if dofs is None else dofs):
+            axes.plot(self.q[:, i], self.qd[:, i], lw=1, label=self.dof_names[i]
+                      if self.dof_names else f"q{i + 1}")
+        axes.set_xlabel("q [m]")
+        axes.set_ylabel("q' [m/s]")
+        axes.legend(fontsize="small")
+        return axes
+
+
+def _scales(q, qd):
+    sq = max(float(np.abs(q).max()) if q.size else 0.0, 1e-300)
+    sv = max(float(np.abs(qd).max()) if qd.size else 0.0, 1e-300)
+    return sq, sv
+
+
+def _amplitudes(trace, n_dof):
+    """Exact half peak-to-peak per DOF over the phases of a traced orbit."""
+    lo = np.full(n_dof, np.inf)
+    hi = np.full(n_dof, -np.inf)
+    arg_lo = [None] * n_dof
+    arg_hi = [None] * n_dof
+    for rec in trace:
+        ta, tb = rec.t_start, rec.t_end
+        if tb <= ta:
+            continue
+        ts = np.linspace(ta, tb, 17)
+        q = rec.phase.outputs(ts)[0]
+        for j in range(n_dof):
+            k = int(np.argmin(q[:, j]))
+            if q[k, j] < lo[j]:
+                lo[j], arg_lo[j] = q[k, j], (rec, ts, k)
+            k = int(np.argmax(q[:, j]))
+            if q[k, j] > hi[j]:
+                hi[j], arg_hi[j] = q[k, j], (rec, ts, k)
+    for j in range(n_dof):
+        for sign, arg in ((1.0, arg_lo[j]), (-1.0, arg_hi[j])):
+            rec, ts, k = arg
+            a, b = ts[max(k - 1, 0)], ts[min(k + 1, ts.size - 1)]
+            if b <= a:
+                continue
+
+            def fun(t, rec=rec, j=j, sign=sign):
+                return sign * float(rec.phase.outputs(np.array([t]))[0][0, j])
+
+            r = minimize_scalar(fun, bounds=(a, b), method="bounded",
+                                options={"xatol": 1e-13 * max(abs(b), b - a)})
+            v = sign * r.fun
+            if sign > 0:
+                lo[j] = min(lo[j], v)
+            else:
+                hi[j] = max(hi[j], v)
+    return 0.5 * (hi - lo)
+
+
+def detect_period_multiple(system: ConstrainedSystem, period: float, y0, *, t0: float = 0.0,
+                           periods: int = 40, max_multiple: int = 8, method: str = "auto",
+                           rtol: float = 1e-10, atol: float = 1e-12) -> tuple[int, np.ndarray,
+                                                                              float]:
+    """Period multiple of the attractor reached from ``y0`` (return-map detection).
+
+    Integrates ``periods`` excitation periods, samples the stroboscopic map, and returns the
+    smallest n <= max_multiple whose return distance ``|y_k - y_{k-n}|`` (scaled, over the
+    last ``max_multiple`` samples) is within 10 times the smallest one found.
+
+    Returns
+    -------
+    n : int
+    y_end : ndarray, shape (2 n_dof,)
+        The final state (a starting guess for shooting).
+    distance : float
+        Scaled return distance of n (small when the transient has settled).
+    """
+    periods = max(int(periods), 2 * max_multiple + 1)
+    te = t0 + period * np.arange(periods + 1)
+    fl = flow(system, (t0, te[-1]), y0, t_eval=te, method=method, rtol=rtol, atol=atol,
+              monodromy=False)
+    res = fl.result
+    n = system.n_dof
+    # the samples at the stroboscopic times (event times are added to t: pick ours)
+    idx = np.searchsorted(res.t, te, side="left")
+    idx = np.minimum(idx, res.t.size - 1)
+    Y = np.hstack([res.q[idx], res.qd[idx]])
+    Y[-1] = fl.y_end
+    sq, sv = _scales(res.q[idx[len(idx) // 2:]], res.qd[idx[len(idx) // 2:]])
+    scale = np.concatenate([np.full(n, sq), np.full(n, sv)])
+    d = []
+    for m in range(1, max_multiple + 1):
+        last = Y[-max_multiple:]
+        prev = Y[-max_multiple - m:-m]
+        d.append(float(np.max(np.abs(last - prev) / scale)))
+    d = np.array(d)
+    best = float(d.min())
+    m = int(np.flatnonzero(d <= 10 * best + 1e-14)[0]) + 1
+    return m, fl.y_end, float(d[m - 1])
+
+
+def shoot(system: ConstrainedSystem, period: float, y0=None, *, period_multiple: int | None = None,
+          t0: float = 0.0, transient_periods: int = 20, max_multiple: int = 8,
+          tol: float = 1e-11, max_iter: int = 30, method: str = "auto", rtol: float = 1e-10,
+          atol: float = 1e-12, stability_margin: float = 1e-6, samples_per_period: int = 64,
+          throw: bool = False) -> PeriodicOrbit:
+    """Periodic orbit of a forced stick-slip system by Newton on the stroboscopic map.
+
+    Parameters
+    ----------
+    system : ConstrainedSystem
+        Forced with period ``period`` (e.g. a :class:`CoulombSystem` with harmonic loads).
+    period : float
+        Excitation period T [s] (> 0).
+    y0 : array_like, shape (2 n_dof,), optional
+        Starting state at ``t0`` (default rest at q = 0). It is first integrated over
+        ``transient_periods`` periods unless ``transient_periods = 0``.
+    period_multiple : int, optional
+        n of the period-n orbit sought; by default detected from the return map of the
+        transient (:func:`detect_period_multiple`).
+    t0 : float
+        Time of the Poincare section [s].
+    transient_periods : int
+        Periods integrated before Newton (a starting guess near the attractor).
+    max_multiple : int
+        Largest n tried by the detection.
+    tol : float
+        Newton tolerance on the scaled residual ``|P(y0) - y0|`` (positions scaled by the
+        orbit's largest |q|, velocities by its largest |q'|).
+    max_iter : int
+        Newton iterations (each with a backtracking line search).
+    method, rtol, atol
+        Event-driven solver settings (exact phases for a LinearForm; DOP853 otherwise).
+    stability_margin : float
+        ``stable`` when ``max |mu| < 1 - stability_margin``.
+    samples_per_period : int
+        Samples of the returned orbit per excitation period.
+    throw : bool
+        Raise :class:`ConvergenceError` when Newton fails (default: ``success=False``).
+
+    Returns
+    -------
+    PeriodicOrbit
+
+    Examples
+    --------
+    den Hartog's oscillator ``x'' + x + 0.3 sgn(x') = cos(0.8 t)`` (non-stop motion):
+
+    >>> import numpy as np
+    >>> from fricdamp.structure.system import MechanicalSystem, HarmonicLoad
+    >>> from fricdamp.solvers.event_system import CoulombSystem
+    >>> s = MechanicalSystem(M=[[1.0]], K=[[1.0]], loads=(HarmonicLoad([1.0], 0.8),))
+    >>> orbit = shoot(CoulombSystem(s, [1.0], 0.3, 1.0), 2 * np.pi / 0.8)
+    >>> V, U = 1 / (1 - 0.8**2), np.tan(np.pi / 1.6) / 0.8
+    >>> bool(abs(orbit.amplitude[0] - np.sqrt(V**2 - 0.09 * U**2)) < 1e-9), orbit.stable
+    (True, True)
+    """
+    wall = _time.perf_counter()
+    if not isinstance(system, ConstrainedSystem):
+        raise ModelError(f"system must be a ConstrainedSystem, got {type(system).__name__}")
+    if not (np.isfinite(period) and period > 0):
+        raise ModelError(f"period must be > 0 s, got {period!r}")
+    n = int(system.n_dof)
+    y = np.zeros(2 * n) if y0 is None else as_finite_array("y0", y0).copy()
+    if y.shape != (2 * n,):
+        raise ModelError(f"y0 must hold [q, q'] with {2 * n} entries, got {y.shape}")
+    if period_multiple is not None and int(period_multiple) < 1:
+        raise ModelError(f"period_multiple must be >= 1, got {period_multiple!r}")
+    kw = dict(method=method, rtol=rtol, atol=atol)
+    if period_multiple is None:
+        nmul, y, _ = detect_period_multiple(system, period, y, t0=t0,
+                                            periods=max(transient_periods, 2 * max_multiple + 1),
+                                            max_multiple=max_multiple, **kw)
+    else:
+        nmul = int(period_multiple)
+        if transient_periods > 0:
+            y = flow(system, (t0, t0 + transient_periods * period), y, monodromy=False,
+                     **kw).y_end
+    t1 = t0 + nmul * period
+
+    def evaluate(yy):
+        fl = flow(system, (t0, t1), yy, **kw)
+        q, qd = fl.result.q, fl.result.qd
+        sq, sv = _scales(np.vstack([q, yy[None, :n]]), np.vstack([qd, yy[None, n:]]))
+        scale = np.concatenate([np.full(n, sq), np.full(n, sv)])
+        r = fl.y_end - yy
+        return fl, r, float(np.max(np.abs(r) / scale))
+
+    fl, r, norm = evaluate(y)
+    it = 0
+    message = "converged"
+    while norm > tol and it < max_iter:
+        it += 1
+        A = fl.monodromy - np.eye(2 * n)
+        try:
+            step = -np.linalg.solve(A, r)
+        except np.linalg.LinAlgError:
+            step = -np.linalg.lstsq(A, r, rcond=1e-14)[0]
+        lam = 1.0
+        best = None
+        for _ in range(10):
+            try:
+                trial = evaluate(y + lam * step)
+            except ConvergenceError:
+                trial = None
+            if trial is not None and (best is None or trial[2] < best[0][2]):
+                best = (trial, lam)
+            if trial is not None and trial[2] < (1 - 1e-4 * lam) * norm:
+                break
+            lam *= 0.5
+        if best is None:
+            message = "the solver failed at every Newton trial point"
+            break
+        (fl, r, norm), lam = best
+        y = y + lam * step
+    success = norm <= tol
+    if not success and message == "converged":
+        message = (f"Newton did not converge in {max_iter} iterations (residual {norm:.3g} > "
+                   f"tol {tol:g}); try another y0, more transient_periods or a period_multiple")
+    if not success and throw:
+        raise ConvergenceError(message)
+    # final orbit: samples and exact extrema
+    te = np.linspace(t0, t1, nmul * int(samples_per_period) + 1)
+    fin = flow(system, (t0, t1), y, t_eval=te, monodromy=False, **kw)
+    res = fin.result
+    amp = _amplitudes(fin.trace, n)
+    mult = np.linalg.eigvals(fl.monodromy)
+    mult = mult[np.argsort(-np.abs(mult), kind="stable")]
+    stable = bool(np.abs(mult).max() < 1 - stability_margin) if mult.size else True
+    return PeriodicOrbit(
+        period=float(period), period_multiple=nmul, t0=float(t0), y0=y, amplitude=amp,
+        multipliers=mult, monodromy=fl.monodromy, stable=stable, success=bool(success),
+        residual=float(norm), iterations=it, message=message, t=res.t, q=res.q, qd=res.qd,
+        modes=res.modes, n_events=int(res.n_events), n_simultaneous=int(fl.n_simultaneous),
+        method=res.method, runtime_s=_time.perf_counter() - wall,
+        dof_names=tuple(res.dof_names))
+
+
+# =====================================================================================
+# continuation in frequency
+# =====================================================================================
+@dataclass(frozen=True)
+class OrbitBranch:
+    """Periodic orbits along the excitation frequency.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n_points,)
+        Excitation circular frequencies [rad/s].
+    orbits : tuple of PeriodicOrbit
+    amplitude : ndarray, shape (n_points, n_dof)
+        [m]; NaN where shooting failed.
+    stable : ndarray of bool, shape (n_points,)
+    success : ndarray of bool, shape (n_points,)
+    """
+
+    omega: np.ndarray
+    orbits: tuple
+    amplitude: np.ndarray
+    stable: np.ndarray
+    success: np.ndarray
+
+
+def continue_orbits(build: Callable[[float], ConstrainedSystem], omegas: Sequence[float], *,
+                    y0=None, period_multiple: int = 1, max_refine: int = 4,
+                    **shoot_kwargs) -> OrbitBranch:
+    """Follow a period-n orbit along the excitation frequency (sequential continuation).
+
+    Each point starts Newton from a secant prediction through the two previous solutions
+    on the section ``t0`` (the first from a transient of ``y0``). When Newton fails, the
+    step is halved (up to ``max_refine`` times) and the intermediate points are solved
+    first; points that still fail are returned with ``success=False``. Friction orbits
+    under harmonic forcing have no folds in frequency here (den Hartog); a branch with
+    folds needs arclength continuation (harmonic balance does that).
+
+    Parameters
+    ----------
+    build : callable omega -> ConstrainedSystem
+        The system forced at circular frequency omega [rad/s].
+    omegas : sequence of float
+        Frequencies [rad/s] (monotonic).
+    y0 : array_like, optional
+        Starting state of the first point's transient.
+    period_multiple : int
+        n of the followed orbit.
+    shoot_kwargs
+        Passed to :func:`shoot`.
+
+    Returns
+    -------
+    OrbitBranch
+    """
+    om = as_finite_array("omegas", omegas).ravel()
+    if om.size == 0 or np.any(om <= 0):
+        raise ModelError("omegas must be a non-empty sequence of frequencies > 0 rad/s")
+    done: list[tuple[float, PeriodicOrbit]] = []
+
+    def solve(w, guess, first):
+        kw = dict(shoot_kwargs)
+        if not first:
+            kw["transient_periods"] = 0
+        return shoot(build(float(w)), 2 * np.pi / w, guess, period_multiple=period_multiple,
+                     **kw)
+
+    def predict(w):
+        ok = [(ww, o) for ww, o in done if o.success]
+        if not ok:
+            return y0, True
+        if len(ok) == 1:
+            return ok[-1][1].y0, False
+        (wa, oa), (wb, ob) = ok[-2], ok[-1]
+        return ob.y0 + (ob.y0 - oa.y0) * (w - wb) / (wb - wa), False
+
+    def attempt(w, level):
+        guess, first = predict(w)
+        orb = solve(w, guess, first)
+        if not orb.success and not first and level < max_refine and done:
+            w_prev = done[-1][0]
+            attempt(0.5 * (w_prev + w), level + 1)
+            guess, _ = predict(w)
+            orb = solve(w, guess, False)
+        done.append((float(w), orb))
+        return orb
+
+    out = []
+    for w in om:
+        out.append(attempt(w, 0))
+    n = out[0].amplitude.size
+    amp = np.array([o.amplitude if o.success else np.full(n, np.nan) for o in out])
+    return OrbitBranch(om.copy(), tuple(out), amp, np.array([o.stable for o in out]),
+                       np.array([o.success for o in out]))
+
+
+__all__ = ["Flow", "OrbitBranch", "PeriodicOrbit", "continue_orbits", "detect_period_multiple",
+           "flow", "shoot"]
