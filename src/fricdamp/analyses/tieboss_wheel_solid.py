@@ -44,7 +44,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from fricdamp.case import Positive, Section
-from fricdamp.errors import CaseError
+from fricdamp.errors import CaseError, ModelError
 from fricdamp.runner import (
     AnalysisOutput,
     BuildContext,
@@ -143,11 +143,30 @@ class CyclicSectorSpec(_PipelineSpec):
     materials: dict[str, dict[str, Positive]] = Field(
         default_factory=dict, description="per cell set: {density = ..., youngs_modulus = "
                                           "...} overrides")
+    stiffness: str | None = Field(None, min_length=1, description="Matrix Market file of "
+                                  "the sector's stiffness [N/m] (replaces the assembly; "
+                                  "the mesh still gives the geometry)")
+    mass: str | None = Field(None, min_length=1, description="Matrix Market file of the "
+                             "sector's mass [kg]")
+    full: str | None = Field(None, min_length=1, description="ANSYS .full file with the "
+                             "sector's K and M (needs ansys-mapdl-reader)")
+    dof_reference: str | None = Field(None, min_length=1, description="text file: node "
+                                      "number (1-based mesh point) and component (0 UX, "
+                                      "1 UY, 2 UZ) of each matrix row")
 
     @model_validator(mode="after")
     def _check_dir(self):
         if not np.any(np.asarray(self.probe_direction)):
             raise ValueError("probe_direction must be a non-zero 3-vector")
+        if (self.stiffness is None) != (self.mass is None):
+            raise ValueError("stiffness and mass matrix files go together: give both or "
+                             "neither")
+        if self.full is not None and self.stiffness is not None:
+            raise ValueError("give either full (an ANSYS .full file) or stiffness and mass "
+                             "(Matrix Market files), not both")
+        if self.dof_reference is not None and self.stiffness is None:
+            raise ValueError("dof_reference maps Matrix Market rows to mesh nodes: it needs "
+                             "stiffness and mass")
         return self
 
 
@@ -280,13 +299,36 @@ def build_cyclic_sector_case(spec: CyclicSectorSpec, ctx: BuildContext) -> Solid
     solid = assemble_solid(mesh, youngs_modulus=spec.youngs_modulus_Pa,
                            poisson_ratio=spec.poisson_ratio, density=spec.density_kg_m3,
                            element=spec.element, materials=mats or None)
+    info = {"mesh_file": str(spec.mesh), "matrices": "assembled from the mesh"}
+    if spec.stiffness is not None or spec.full is not None:
+        from fricdamp.structure.io import solid_with_matrices
+
+        def rel(name):
+            value = getattr(spec, name)
+            if value is None:
+                return None
+            q = Path(value)
+            q = q if q.is_absolute() else Path(ctx.base_dir) / q
+            if not q.is_file():
+                raise CaseError(f"[model] {name} = {value!r}: no such file ({q})")
+            return q
+
+        try:
+            solid = solid_with_matrices(solid, K=rel("stiffness"), M=rel("mass"),
+                                        full=rel("full"), dof_reference=rel("dof_reference"),
+                                        fixed_nodes=spec.clamp if spec.clamp in
+                                        solid.node_sets else None)
+        except ModelError as exc:
+            raise CaseError(f"[model] matrix files: {exc}") from exc
+        info["matrices"] = (f"ANSYS .full {spec.full}" if spec.full else
+                            f"Matrix Market {spec.stiffness}, {spec.mass}")
     ws = sector_from_solid(
         solid, n_sectors=spec.n_sectors, youngs_modulus=spec.youngs_modulus_Pa,
         probe_direction=spec.probe_direction,
         rayleigh=rayleigh_coefficients(spec.damping_ratio, spec.damping_band_hz),
         axis=spec.axis, clamp=spec.clamp, cut_left=spec.cut_left, cut_right=spec.cut_right,
         contact_left=spec.contact_left, contact_right=spec.contact_right, probe=spec.probe,
-        load=spec.load, info={"mesh_file": str(spec.mesh)})
+        load=spec.load, info=info)
     return SolidWheelCaseModel(ws, _settings(spec), spec.n_modes, spec.n_interface_modes,
                                solid=solid, paper=False, kind="cyclic_sector")
 

@@ -9,6 +9,10 @@
   sector matrices, with the left/right cut DOFs and the contact nodes named, so a real FE
   model runs the same pipeline as the built-in models (cyclic modes, Craig–Bampton,
   transients).
+* :func:`solid_with_matrices` — a meshed solid sector whose mass and stiffness come from
+  matrix files (Matrix Market or ANSYS ``.full``) instead of fricdamp's own assembly: the
+  mesh gives the geometry (contact faces, normals, tributary areas, node sets), the files
+  give the FE program's matrices, mapped onto the mesh nodes by their DOF reference.
 
 FE programs often store only one triangle of a symmetric matrix (ANSYS ``.full`` files
 hold the upper one); a matrix with exactly one empty strict triangle is completed to the
@@ -303,3 +307,112 @@ def read_sector(M=None, K=None, *, n_sectors: int, D=None, full=None, left_dofs=
     return CyclicSector(M=M, K=K, D=D, left=left, right=right, n_sectors=n_sectors,
                         frame=frame, axis=axis, named_dofs=named, dof_names=dof_names,
                         name=name)
+
+
+def solid_with_matrices(solid, *, K=None, M=None, full=None, dof_reference=None,
+                        fixed_nodes: str | Sequence[int] | None = None):
+    """A :class:`~fricdamp.structure.solid.SolidModel` with its K and M from matrix files.
+
+    The mesh of ``solid`` keeps the geometry (faces, normals, tributary areas, node sets:
+    what the contact patches and cyclic cuts need); the matrices of the FE program that
+    made the model replace fricdamp's assembly, so an imported sector runs with exactly
+    the stiffness and mass the engineer has (element formulation, materials, bolted parts).
+
+    Parameters
+    ----------
+    solid : SolidModel
+        The sector assembled from its mesh (:func:`~fricdamp.structure.solid.assemble_solid`);
+        its matrices are replaced.
+    K, M : path or sparse matrix, optional
+        Stiffness [N/m] and mass [kg], Matrix Market files (``.mtx``; one stored triangle
+        is completed). Give both, or ``full``.
+    full : path, optional
+        ANSYS ``.full`` file (needs ``ansys-mapdl-reader``); its DOF reference is used.
+    dof_reference : (n, 2) array_like or path, optional
+        Node number and component (0 UX, 1 UY, 2 UZ) of each matrix row, for Matrix Market
+        input. **Node numbers are the 1-based positions of the points in the mesh file**
+        (gmsh node tags when they are contiguous, the usual case). Default: the matrices
+        are in fricdamp's own order, ``3 (node) + component`` over the FE nodes.
+    fixed_nodes : str or sequence of int, optional
+        The supported nodes (a node-set name, e.g. the clamp, or FE node indices): the only
+        nodes whose DOFs may be absent from the matrices (FE programs drop constrained DOFs,
+        as ANSYS ``.full`` files do).
+
+    Returns
+    -------
+    SolidModel
+        ``solid`` with ``K`` and ``M`` replaced (``parts`` emptied); absent DOFs of fixed
+        nodes get unit diagonals (they are removed with the supports).
+
+    Raises
+    ------
+    ModelError
+        Unreadable or inconsistent files, rotational DOFs, nodes that are not in the mesh,
+        or free DOFs missing from the matrices.
+    """
+    from dataclasses import replace
+
+    if full is not None:
+        if K is not None or M is not None:
+            raise ModelError("give either full= (an ANSYS .full file) or K= and M=, not both")
+        M, K, ref = read_ansys_full(full)
+        if dof_reference is not None:
+            raise ModelError("dof_reference comes from the .full file; do not pass it too")
+    else:
+        if K is None or M is None:
+            raise ModelError("matrix import needs both stiffness (K) and mass (M) files, or "
+                             "an ANSYS .full file")
+        K = sp.csr_matrix(_complete_triangle(read_matrix(K, "stiffness"), "stiffness"))
+        M = sp.csr_matrix(_complete_triangle(read_matrix(M, "mass"), "mass"))
+        ref = None
+    n = K.shape[0]
+    if K.shape != (n, n) or M.shape != (n, n):
+        raise ModelError(f"stiffness and mass must be square and of one size, got {K.shape} "
+                         f"and {M.shape}")
+    if ref is None:
+        ref = _dof_reference(dof_reference, n)
+    if ref is None:
+        if n != solid.n_dof:
+            raise ModelError(f"the matrices have {n} rows but the mesh has {solid.n_dof} DOFs "
+                             f"(3 x {solid.n_nodes} nodes); give a dof_reference to map "
+                             "them (node number, component per row)")
+        target = np.arange(n)
+    else:
+        if np.any(ref[:, 1] > 2) or np.any(ref[:, 1] < 0):
+            bad = ref[(ref[:, 1] > 2) | (ref[:, 1] < 0)][0]
+            raise ModelError(f"dof_reference: component {int(bad[1])} of node {int(bad[0])} "
+                             f"is not a translation (0 UX, 1 UY, 2 UZ); solid sectors have "
+                             "no rotational DOFs")
+        pn = solid.point_nodes
+        n_pts = pn.size
+        nodes = ref[:, 0]
+        if nodes.min() < 1 or nodes.max() > n_pts:
+            raise ModelError(f"dof_reference: node numbers must lie in [1, {n_pts}] (1-based "
+                             f"positions of the mesh points), got {int(nodes.min())} to "
+                             f"{int(nodes.max())}")
+        fe = pn[nodes - 1]
+        if np.any(fe < 0):
+            raise ModelError(f"dof_reference: node {int(nodes[fe < 0][0])} is not a node of "
+                             "the mesh's volume elements")
+        target = 3 * fe + ref[:, 1]
+    present = np.zeros(solid.n_dof, dtype=bool)
+    present[target] = True
+    missing = np.flatnonzero(~present)
+    if missing.size:
+        fixed = np.zeros(solid.n_nodes, dtype=bool)
+        if fixed_nodes is not None:
+            fixed[solid.node_ids(fixed_nodes)] = True
+        free_missing = missing[~fixed[missing // 3]]
+        if free_missing.size:
+            d = int(free_missing[0])
+            pts = np.flatnonzero(solid.point_nodes == d // 3)
+            where = (f"node {int(pts[0]) + 1}" if pts.size else
+                     f"generated mid-side node {d // 3 + 1}")
+            raise ModelError(f"{free_missing.size} DOF(s) of unsupported nodes are not in the "
+                             f"matrices, first: {where} component {d % 3}; export the whole "
+                             "sector or name its supports")
+    Pm = sp.csr_matrix((np.ones(n), (target, np.arange(n))), shape=(solid.n_dof, n))
+    pad = sp.diags((~present).astype(float))
+    K_new = (Pm @ K @ Pm.T + pad).tocsr()
+    M_new = (Pm @ M @ Pm.T + pad).tocsr()
+    return replace(solid, K=K_new, M=M_new, parts={})
