@@ -384,16 +384,19 @@ class Case:
 
 
 def read_case_file(path: str | Path) -> tuple[dict, str]:
-    """Read a TOML case file; return (data, text). Raise CaseError if unreadable or not TOML."""
+    """Read a TOML case file; return (data, text). Raise CaseError if unreadable or not TOML.
+
+    Only regular files of at most 16 MiB are read (a device such as ``/dev/zero`` or a pipe
+    is refused at once instead of being read for ever)."""
+    from fricdamp.iofiles import read_regular_file
+
     path = Path(path)
+    raw = read_regular_file(path, what="case file")
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CaseError(f"case file {str(path)!r} does not exist") from None
-    except IsADirectoryError:
-        raise CaseError(f"case file {str(path)!r} is a folder, not a TOML file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CaseError(f"cannot read case file {str(path)!r}: {exc}") from None
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise CaseError(f"cannot read case file {str(path)!r}: it is not UTF-8 text "
+                        f"(byte {exc.start})") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -1,9 +1,20 @@
 """Command line: ``fricdamp run CASE.toml``, ``fricdamp check CASE.toml``, ``fricdamp demo``.
 
-Exit codes: 0 success; 2 invalid case or bad input (one line on stderr naming the key and
-what is allowed, never a traceback); 1 a solver failed (its message on stderr) or an
-internal error (``--traceback`` shows it). Progress bars appear only when stderr is a
-terminal and the ``CI`` environment variable is not set.
+Exit codes (the same for every command, docs/cases.md):
+
+* 0 -- ok: every analysis finished and its error estimates are within their limits;
+* 1 -- failed: a solver did not finish what was asked (an FRF that stopped short of its
+  range, a time integration that stopped), a result could not be written (disk full,
+  permission: the message names the file), or an internal error (``--traceback`` shows it);
+* 2 -- bad input: invalid case, key or argument (one line on stderr naming the key and what
+  is allowed, never a traceback); nothing is computed;
+* 3 -- computed but unreliable: the results are written, but an error estimate exceeds its
+  limit (energy balance, time-step or harmonic-truncation error, ...;
+  ``summary.json["verdict"]`` says which and what to do);
+* 130 -- interrupted (Ctrl-C or SIGTERM): temporary files are removed, complete files kept.
+
+Progress bars appear only when stderr is a terminal and the ``CI`` environment variable is
+not set.
 
 The command line owns all terminal output; the library only logs.
 """
@@ -19,11 +30,11 @@ import time
 from pathlib import Path
 
 from fricdamp._version import __version__
-from fricdamp.errors import CaseError, ConvergenceError, ModelError
+from fricdamp.errors import CaseError, ConvergenceError, ModelError, OutputError
 
 __all__ = ["main"]
 
-EXIT_OK, EXIT_FAILURE, EXIT_INVALID = 0, 1, 2
+EXIT_OK, EXIT_FAILURE, EXIT_INVALID, EXIT_UNRELIABLE, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
 
 def _progress_wanted(disabled: bool) -> bool:
@@ -110,17 +121,49 @@ def _describe(case, system) -> str:
 
 def _run(case, out_dir: Path, args) -> int:
     from fricdamp.runner import build_system, run_case
+    from fricdamp.verdict import exit_code
 
     system = build_system(case)
     _out(f"fricdamp {__version__}: {_describe(case, system)}")
     t0 = time.perf_counter()
-    outcome = run_case(case, out_dir, progress=_progress_wanted(args.no_progress),
-                       results_format=args.format, echo=_out)
+    existed = out_dir.is_dir()
+    try:
+        outcome = run_case(case, out_dir, progress=_progress_wanted(args.no_progress),
+                           results_format=args.format, echo=_out)
+    except KeyboardInterrupt:
+        _err(f"interrupted: {_kept(out_dir, existed, t0)}")
+        return EXIT_INTERRUPTED
     files = outcome.files
     _out(f"wrote {len(files['figures'])} figures, {files['results']} and {files['summary']} "
          f"to {out_dir} in {time.perf_counter() - t0:.1f} s")
     _out(f"report: {outcome.report.resolve()}")
-    return EXIT_OK
+    verdict = outcome.summary["verdict"]
+    if verdict["overall"] != "ok":
+        bad = [n for n, v in verdict["analyses"].items() if v["verdict"] != "ok"]
+        _err(f"verdict: {verdict['overall']} ({', '.join(bad)}): "
+             + "; ".join(r for n in bad for r in verdict["analyses"][n]["reasons"][:1]))
+    else:
+        _out("verdict: ok")
+    return exit_code(verdict["overall"])
+
+
+def _kept(out_dir: Path, existed: bool, since: float) -> str:
+    """What an interrupted run left in ``out_dir`` (temporary files are removed by the
+    atomic writers; an empty folder this run created is removed)."""
+    import contextlib
+
+    if not out_dir.is_dir():
+        return "nothing was written"
+    wall = time.time() - (time.perf_counter() - since)
+    new = sorted(p.name for p in out_dir.iterdir()
+                 if p.is_file() and not p.name.startswith(".") and p.stat().st_mtime >= wall)
+    if not new:
+        if not existed:
+            with contextlib.suppress(OSError):
+                out_dir.rmdir()
+        return f"nothing was written to {out_dir}"
+    return (f"kept {len(new)} complete file{'s' if len(new) != 1 else ''} in {out_dir} "
+            f"({', '.join(new)}); the run is incomplete")
 
 
 def _cmd_run(args) -> int:
@@ -168,11 +211,25 @@ def main(argv: list[str] | None = None) -> int:
     return run_parsed(args)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised as an interruption so that temporary files are cleaned up."""
+
+
+def _on_sigterm(signum, frame):  # pragma: no cover - exercised in a subprocess test
+    raise Terminated()
+
+
 def run_parsed(args: argparse.Namespace) -> int:
     """Run a parsed subcommand (``args.func``) and map its errors to exit codes: 2 invalid
-    input (one line), 1 solver failure or internal error, 130 interrupted."""
+    input (one line), 1 solver failure, write failure or internal error, 130 interrupted
+    (Ctrl-C or SIGTERM). A subcommand returns 0, 1 or 3 from its results' verdict."""
+    import signal
+    import threading
+
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="fricdamp: %(levelname)s: %(name)s: %(message)s")
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         return args.func(args)
     except (CaseError, ModelError) as exc:
@@ -181,9 +238,23 @@ def run_parsed(args: argparse.Namespace) -> int:
     except ConvergenceError as exc:
         _err(f"the solver failed: {exc}")
         return EXIT_FAILURE
+    except OutputError as exc:
+        _err(str(exc))
+        return EXIT_FAILURE
     except KeyboardInterrupt:
         _err("interrupted")
-        return 130
+        return EXIT_INTERRUPTED
+    except MemoryError:
+        _err("out of memory: the run needs more memory than the machine has; reduce its size "
+             "(time steps, harmonics, DOFs)")
+        return EXIT_FAILURE
+    except OSError as exc:  # disk full or permission while writing somewhere we did not wrap
+        if args.traceback:
+            raise
+        name = getattr(exc, "filename", None)
+        _err(f"cannot write or read {name!r}: {exc.strerror or exc}" if name else
+             f"input/output error: {exc}")
+        return EXIT_FAILURE
     except Exception as exc:  # a bug: say so in one line unless asked for the traceback
         if args.traceback:
             raise

@@ -61,3 +61,13 @@ def check_range(name: str, value, low: float, high: float, *, unit: str = "",
         u = f" {unit}" if unit else ""
         raise ModelError(f"{name} must lie in {lb}{low}, {high}{hb}{u}, got {value!r}")
     return arr
+
+
+class OutputError(FricdampError, OSError):
+    """A result could not be written (folder not writable, disk full, another run holds the
+    folder); the message names the file. Exit code 1 on the command line."""
+
+
+class CheckError(ModelError):
+    """A run would need more memory or time than is sensible (the message names the parameter
+    that drives the size, the estimate and the limit)."""

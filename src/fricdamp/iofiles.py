@@ -23,7 +23,10 @@ from pathlib import Path
 import numpy as np
 
 __all__ = [
+    "OutputLock",
     "atomic_path",
+    "prepare_output_folder",
+    "read_regular_file",
     "combine_results",
     "read_results",
     "save_figure",
@@ -35,6 +38,173 @@ __all__ = [
 
 #: Suffixes accepted by :func:`write_results`.
 RESULT_FORMATS = {".nc": "netcdf", ".npz": "npz"}
+
+
+def _os_reason(exc: OSError) -> str:
+    import errno
+
+    if exc.errno == errno.ENOSPC:
+        return "the disk is full"
+    if exc.errno == errno.EDQUOT:
+        return "the disk quota is exceeded"
+    if exc.errno in (errno.EACCES, errno.EPERM):
+        return "permission denied"
+    if exc.errno == errno.EROFS:
+        return "the file system is read-only"
+    return exc.strerror or type(exc).__name__
+
+
+def output_error(path, exc: OSError, action: str = "cannot write"):
+    """An :class:`~fricdamp.errors.OutputError` naming ``path`` and the reason (one line)."""
+    from fricdamp.errors import OutputError
+
+    return OutputError(f"{action} {os.fspath(path)!r}: {_os_reason(exc)}")
+
+
+def prepare_output_folder(out_dir: str | os.PathLike) -> Path:
+    """Create ``out_dir`` (with parents) and check a file can be written there, before any
+    computation starts.
+
+    Raises
+    ------
+    OutputError
+        Naming the folder (or the file in the way) and the reason: not a folder, permission
+        denied, read-only or full file system.
+    """
+    from fricdamp.errors import OutputError
+
+    out_dir = Path(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise OutputError(f"the output folder {str(out_dir)!r} is a file; choose another --out")
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_error(out_dir, exc, "cannot create the output folder") from None
+    probe = out_dir / f".fricdamp-write-test-{os.getpid()}"
+    try:
+        with open(probe, "wb") as fh:
+            fh.write(b"x" * 4096)
+            fh.flush()
+            os.fsync(fh.fileno())
+    except OSError as exc:
+        raise output_error(out_dir, exc, "cannot write into the output folder") from None
+    finally:
+        with contextlib.suppress(OSError):
+            probe.unlink()
+    return out_dir
+
+
+class OutputLock:
+    """``out_dir/.fricdamp.lock`` held while a run or study writes into ``out_dir``.
+
+    Created with ``O_EXCL`` and holding the process id; a lock left by a process that no
+    longer runs (killed) is taken over. Use as a context manager.
+
+    Raises
+    ------
+    OutputError
+        If another running fricdamp process holds the folder.
+    """
+
+    NAME = ".fricdamp.lock"
+
+    def __init__(self, out_dir: str | os.PathLike, what: str = "run"):
+        self.path = Path(out_dir) / self.NAME
+        self.what = what
+        self._held = False
+
+    @staticmethod
+    def _alive(pid: int) -> bool:
+        if pid <= 0:
+            return False
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return False
+        except PermissionError:
+            return True
+        return True
+
+    def acquire(self) -> OutputLock:
+        from fricdamp.errors import OutputError
+
+        for _ in range(2):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                try:
+                    text = self.path.read_text(encoding="utf-8").split()
+                    pid = int(text[0]) if text else -1
+                except (OSError, ValueError):
+                    pid = -1
+                if pid != os.getpid() and self._alive(pid):
+                    raise OutputError(
+                        f"another fricdamp {text[1] if len(text) > 1 else 'run'} (process "
+                        f"{pid}) is writing into {str(self.path.parent)!r} (lock file "
+                        f"{self.path.name}); wait for it to finish or choose another folder"
+                    ) from None
+                with contextlib.suppress(FileNotFoundError):
+                    self.path.unlink()   # stale: its process is gone
+                continue
+            except OSError as exc:
+                raise output_error(self.path, exc) from None
+            with os.fdopen(fd, "w") as fh:
+                fh.write(f"{os.getpid()} {self.what}\n")
+            self._held = True
+            return self
+        raise OutputError(f"cannot take the lock {str(self.path)!r}")
+
+    def release(self) -> None:
+        if self._held:
+            with contextlib.suppress(OSError):
+                self.path.unlink()
+            self._held = False
+
+    def __enter__(self) -> OutputLock:
+        return self.acquire()
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
+
+#: Largest case or table file read (bytes): a case file is a few kB.
+MAX_TEXT_FILE_BYTES = 16 * 2**20
+
+
+def read_regular_file(path: str | os.PathLike, *, what: str = "file",
+                      max_bytes: int = MAX_TEXT_FILE_BYTES) -> bytes:
+    """The bytes of ``path``, which must be a regular file of at most ``max_bytes``.
+
+    Devices, pipes and folders are refused (``/dev/zero`` would never end), and so is a
+    file larger than the cap. Raises :class:`~fricdamp.errors.CaseError` naming the path.
+    """
+    import stat
+
+    from fricdamp.errors import CaseError
+
+    p = Path(path)
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        raise CaseError(f"{what} {str(p)!r} does not exist") from None
+    except OSError as exc:
+        raise CaseError(f"cannot read {what} {str(p)!r}: {_os_reason(exc)}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise CaseError(f"{what} {str(p)!r} is a folder, not a file")
+    if not stat.S_ISREG(st.st_mode):
+        raise CaseError(f"{what} {str(p)!r} is not a regular file (a device or pipe); give "
+                        "the path of a file")
+    if st.st_size > max_bytes:
+        raise CaseError(f"{what} {str(p)!r} is {st.st_size / 2**20:.1f} MiB; a {what} may be "
+                        f"at most {max_bytes / 2**20:.0f} MiB")
+    try:
+        with open(p, "rb") as fh:
+            data = fh.read(max_bytes + 1)
+    except OSError as exc:
+        raise CaseError(f"cannot read {what} {str(p)!r}: {_os_reason(exc)}") from None
+    if len(data) > max_bytes:
+        raise CaseError(f"{what} {str(p)!r} is larger than {max_bytes / 2**20:.0f} MiB")
+    return data
 
 
 @contextlib.contextmanager

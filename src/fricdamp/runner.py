@@ -49,6 +49,8 @@ from fricdamp.case import (
     read_case_file,
 )
 from fricdamp.errors import CaseError, ConvergenceError, ModelError
+from fricdamp.errors import OutputError as FricdampOutputError
+from fricdamp.verdict import Verdict, combine, judge
 
 log = logging.getLogger(__name__)
 
@@ -64,6 +66,8 @@ __all__ = [
     "RunOutcome",
     "attachment_projection",
     "ComputedCase",
+    "default_verdict",
+    "verdict_summary",
     "build_system",
     "compute_case",
     "describe_system",
@@ -86,7 +90,8 @@ __all__ = [
 # ================================================================================ registry
 #: Top-level keys of summary.json besides the analyses' sections.
 RESERVED_SUMMARY_KEYS = frozenset({"fricdamp_version", "case", "created", "runtime_s",
-                                   "energy_balance_error", "model", "notes", "files"})
+                                   "energy_balance_error", "model", "notes", "files",
+                                   "verdict"})
 
 
 @dataclass(frozen=True)
@@ -258,6 +263,12 @@ class AnalysisOutput:
         paper's results contract: ``n_dof``, a list of sweeps). A key may not be one of the
         summary's own keys nor the name of an analysis of the case; two analyses may give the
         same key only with the same value.
+    verdict : fricdamp.verdict.Verdict, optional
+        Whether the numbers can be trusted (``ok``, ``unreliable`` with reasons, ``failed``)
+        and the error estimates behind it. An analysis that knows its errors sets it
+        (:func:`fricdamp.verdict.judge` turns estimates into one); when it is None the runner
+        gives :func:`default_verdict`. It goes into summary.json under
+        ``verdict.analyses.<name>`` and decides the exit code of ``fricdamp run``.
     """
 
     summary: dict
@@ -266,6 +277,24 @@ class AnalysisOutput:
     headline: str = ""
     notes: list[str] = field(default_factory=list)
     top_level: dict = field(default_factory=dict)
+    verdict: Verdict | None = None
+
+
+def default_verdict(out: AnalysisOutput) -> Verdict:
+    """The verdict of an analysis that gives none: from what its summary reports.
+
+    ``failed`` if the summary says ``success = false``; ``unreliable`` if its
+    ``energy_balance_error`` exceeds :data:`fricdamp.verdict.THRESHOLDS`; ``ok`` otherwise.
+    The estimates are the summary's ``energy_balance_error`` (if any).
+    """
+    est = {}
+    ebe = out.summary.get("energy_balance_error")
+    if isinstance(ebe, (int, float)) and not isinstance(ebe, bool):
+        est["energy_balance_error"] = float(ebe)
+    failed = None
+    if out.summary.get("success") is False:
+        failed = str(out.summary.get("message") or "the analysis reports success = false")
+    return judge(est, failed=failed)
 
 
 @dataclass(frozen=True)
@@ -276,6 +305,11 @@ class RunOutcome:
     summary: dict
     files: dict
     outputs: dict
+
+    @property
+    def verdict(self) -> str:
+        """Overall verdict of the run: "ok", "unreliable" or "failed"."""
+        return self.summary["verdict"]["overall"]
 
     @property
     def report(self) -> Path:
@@ -428,11 +462,16 @@ def compute_case(case: Case, *, registry: Registry | None = None, progress: bool
         except ModelError as exc:
             raise CaseError(f"[analysis.{name}] {exc}") from exc
         runtimes[name] = time.perf_counter() - t_a
+        if out.verdict is None:
+            out.verdict = default_verdict(out)
         outputs[name] = out
         if echo is not None:
             echo(f"  {name}: {out.headline}" if out.headline else f"  {name}: done")
             for note in out.notes:
                 echo(f"  {name}: note: {note}")
+            if not out.verdict.ok:
+                for reason in out.verdict.reasons:
+                    echo(f"  {name}: {out.verdict.status.upper()}: {reason}")
     return ComputedCase(system=system, outputs=outputs, runtimes_s=runtimes)
 
 
@@ -471,27 +510,63 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
         Invalid case (exit code 2 on the command line).
     ConvergenceError
         A solver failed (exit code 1); nothing is written.
+    OutputError
+        The folder cannot be created or written (checked before computing), another run
+        holds it, or a file could not be written (disk full): the message names the file.
+
+    A run whose analyses finish but are judged ``unreliable`` or ``failed`` (their
+    :class:`~fricdamp.verdict.Verdict`) is written as usual; ``summary.json["verdict"]`` and
+    :attr:`RunOutcome.verdict` say so, and the command line exits with 3 or 1.
     """
-    from fricdamp.iofiles import combine_results, save_figure, write_json, write_results
-    from fricdamp.report import write_report
+    from fricdamp.iofiles import OutputLock, prepare_output_folder
 
     if results_format not in ("nc", "npz"):
         raise CaseError(f"results format must be 'nc' or 'npz', got {results_format!r}")
     reg = registry or REGISTRY
     start = time.perf_counter()
     out_dir = Path(out_dir)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise CaseError(f"the output folder {str(out_dir)!r} is a file; choose another --out")
-    computed = compute_case(case, registry=reg, progress=progress, echo=echo)
+    # the folder is created and write-tested before anything is computed, and locked
+    # against a second run into it
+    prepare_output_folder(out_dir)
+    with OutputLock(out_dir, "run"):
+        computed = compute_case(case, registry=reg, progress=progress, echo=echo)
+        return _write_case(case, computed, out_dir, results_format, start)
+
+
+def verdict_summary(outputs: dict) -> dict:
+    """``{"overall": ..., "analyses": {name: {"verdict", "reasons", "estimates"}}}`` of the
+    analyses' outputs (summary.json's ``verdict``)."""
+    verdicts = {name: (out.verdict or default_verdict(out)) for name, out in outputs.items()}
+    return {"overall": combine(verdicts.values()),
+            "analyses": {name: v.to_dict() for name, v in verdicts.items()}}
+
+
+def _write_case(case: Case, computed: ComputedCase, out_dir: Path, results_format: str,
+                start: float) -> RunOutcome:
+    """Write the files of a computed case (each atomically); OutputError names the file."""
+    from fricdamp.iofiles import (
+        combine_results,
+        output_error,
+        save_figure,
+        write_json,
+        write_results,
+    )
+    from fricdamp.report import write_report
+
     system, outputs = computed.system, computed.outputs
     for name, out in outputs.items():
         out.summary.setdefault("runtime_s", computed.runtimes_s[name])
     top_level = _top_level_keys(outputs)
 
-    try:
-        out_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise CaseError(f"cannot create the output folder {str(out_dir)!r}: {exc}") from None
+    def writing(path, write):
+        """``write()`` the file ``path``; an OSError (disk full, permission) names it."""
+        try:
+            return write()
+        except FricdampOutputError:
+            raise
+        except OSError as exc:
+            raise output_error(path, exc) from None
+
     results_name = f"results.{results_format}"
     figures: dict[str, list[tuple[str, str]]] = {}
     for name, out in outputs.items():
@@ -503,7 +578,8 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
                                  "plain '<name>.png'")
             if any(filename == f for figs_ in figures.values() for f, _ in figs_):
                 raise ValueError(f"analysis {name!r}: figure {filename!r} is written twice")
-            save_figure(fig, out_dir / filename)
+            writing(out_dir / filename,
+                    lambda f=fig, p=out_dir / filename: save_figure(f, p))
             figures[name].append((filename, title))
 
     ebe = [o.summary["energy_balance_error"] for o in outputs.values()
@@ -514,6 +590,7 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         "runtime_s": None,
         "energy_balance_error": max(ebe) if ebe else None,
+        "verdict": verdict_summary(outputs),
         "model": describe_system(system),
     }
     for name, out in outputs.items():
@@ -529,11 +606,12 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
     ds = combine_results({n: o.arrays for n, o in outputs.items()},
                          attrs={"fricdamp_version": __version__, "case_name": case.name,
                                 "case_toml": case.text})
-    write_results(out_dir / results_name, ds)
+    writing(out_dir / results_name, lambda: write_results(out_dir / results_name, ds))
     summary["runtime_s"] = time.perf_counter() - start
-    write_json(out_dir / "summary.json", summary)
-    write_report(out_dir / "report.html", summary=summary, case_text=case.text,
-                 figures=figures)
+    writing(out_dir / "summary.json", lambda: write_json(out_dir / "summary.json", summary))
+    writing(out_dir / "report.html", lambda: write_report(out_dir / "report.html",
+                                                          summary=summary, case_text=case.text,
+                                                          figures=figures))
     return RunOutcome(out_dir=out_dir, summary=summary, files=files, outputs=outputs)
 
 

@@ -12,6 +12,7 @@ import numpy as np
 from fricdamp.case import ForcedResponse, FreeDecay, Hysteresis
 from fricdamp.errors import CaseError, ConvergenceError, ModelError
 from fricdamp.runner import AnalysisOutput, RunContext, register_analysis
+from fricdamp.verdict import THRESHOLDS, judge, time_result_verdict
 
 # ========================================================================== closed forms
 #: Closed-form loop energies per law class, used by the hysteresis analysis.
@@ -121,10 +122,12 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
         dof = spec.response_dof - 1
     else:
         dof = int(np.argmax(np.abs(q0))) if np.any(q0) else int(np.argmax(np.abs(v0)))
-    res = simulate(system.with_loads(), spec.duration_s, spec.time_step_s, q0=q0, v0=v0,
+    sys_ = system.with_loads()
+    res = simulate(sys_, spec.duration_s, spec.time_step_s, q0=q0, v0=v0,
                    save_every=spec.save_every, **ctx.simulate_kwargs())
     if not res.success:
         raise ConvergenceError(res.message)
+    verdict = time_result_verdict(sys_, res, spec.time_step_s)
 
     notes = []
     x = res.q[:, dof]
@@ -157,6 +160,7 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
         "contact_dissipation_J": float(e["contact_dissipation"][-1] - e["contact_dissipation"][0]),
         "viscous_dissipation_J": float(e["viscous_dissipation"][-1] - e["viscous_dissipation"][0]),
         "energy_balance_error": float(res.energy_balance_error),
+        "period_error": verdict.estimates.get("period_error"),
         "n_steps": int(res.n_steps),
         "solver_runtime_s": float(res.runtime_s),
     }
@@ -194,7 +198,7 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
         return figs
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
-                          notes=notes)
+                          notes=notes, verdict=verdict)
 
 
 def _identify_decay(t, x):
@@ -236,6 +240,10 @@ def _loops_of(system, cu, cf, sl: slice) -> list[tuple[str, np.ndarray, np.ndarr
 
 
 # --------------------------------------------------------------------- forced response
+#: Largest relative change of the amplitudes over the last period of a forced response that
+#: is called a steady state (a transient is never called one).
+STEADY_STATE_LIMIT = 1e-2
+
 def _check_forced(system, spec: ForcedResponse) -> None:
     _check_vector(spec.force_amplitude_N, system.n_dof, "force_amplitude_N")
 
@@ -261,8 +269,8 @@ def run_forced_response(system, spec: ForcedResponse, ctx: RunContext) -> Analys
     N = spec.steps_per_period
     period = 1.0 / f_hz
     load = HarmonicLoad(np.asarray(spec.force_amplitude_N, float), 2 * np.pi * f_hz)
-    res = simulate(system.with_loads(load), spec.periods * period, period / N,
-                   **ctx.simulate_kwargs())
+    sys_ = system.with_loads(load)
+    res = simulate(sys_, spec.periods * period, period / N, **ctx.simulate_kwargs())
     if not res.success:
         raise ConvergenceError(res.message)
 
@@ -318,9 +326,25 @@ def run_forced_response(system, spec: ForcedResponse, ctx: RunContext) -> Analys
         "solver_runtime_s": float(res.runtime_s),
     }
     notes = []
-    if change > 1e-2:
-        notes.append(f"the response is not yet steady (amplitudes changed by {100 * change:.2g} "
-                     "% over the last period); increase periods")
+    reasons = []
+    if change > STEADY_STATE_LIMIT:
+        reasons.append(f"the response is not yet steady (amplitudes changed by "
+                       f"{100 * change:.2g} % over the last period, limit "
+                       f"{100 * STEADY_STATE_LIMIT:g} %): increase periods")
+    if cycle_err is not None and cycle_err > THRESHOLDS["energy_balance_error"]:
+        reasons.append(f"the energy balance of the last period is off by {cycle_err:.3g} "
+                       f"(limit {THRESHOLDS['energy_balance_error']:g}): the last period is "
+                       "not a steady cycle, or the time step is too large")
+    negative = {k: v["dissipated_energy_per_cycle_J"] for k, v in contacts.items()
+                if v["dissipated_energy_per_cycle_J"] < -1e-6 * max(abs(w_in), 1e-300)}
+    if negative:
+        k, v = next(iter(negative.items()))
+        reasons.append(f"contact {k!r} gives energy back over the last period ({v:.3g} J): "
+                       "a passive contact cannot; reduce the time step")
+    verdict = time_result_verdict(sys_, res, period / N, reasons=reasons)
+    verdict = verdict.with_estimates(steady_state_change=change,
+                                     cycle_energy_balance_error=cycle_err)
+    summary["period_error"] = verdict.estimates.get("period_error")
     names = list(system.names)
     arrays = {
         "response": res.to_xarray(),
@@ -356,7 +380,7 @@ def run_forced_response(system, spec: ForcedResponse, ctx: RunContext) -> Analys
         return figs
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
-                          notes=notes)
+                          notes=notes, verdict=verdict)
 
 
 # -------------------------------------------------------------------------- hysteresis
@@ -466,7 +490,15 @@ def run_hysteresis(system, spec: Hysteresis, ctx: RunContext) -> AnalysisOutput:
                                            title="Energy dissipated per cycle")),
         ]
 
-    return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline)
+    worst = min((float(np.min(W)) / max(float(np.max(np.abs(W))), 1e-300), label)
+                for label, W in zip(labels, energies, strict=True))
+    verdict = judge({"negative_dissipation": max(0.0, -worst[0]),
+                     "max_closed_form_error": summary["max_closed_form_error"]})
+    if worst[0] < -THRESHOLDS["negative_dissipation"]:
+        verdict = verdict.worse("unreliable", f"the loop of {worst[1]!r} has a negative area: "
+                                "the law gives energy back over a closed cycle (not passive)")
+    return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
+                          verdict=verdict)
 
 
 def _closed_form_curves(elements, A) -> dict:
