@@ -354,6 +354,9 @@ class CyclicForcedResponse:
         Wall time of the continuation [s] (CPU time in ``cpu_s``).
     cpu_s : float
     n_evaluations : int
+    n_restarts : int
+        Natural-parameter restarts after the arclength corrector stalled at a kink of the
+        friction residual (each a small step in Omega by damped Newton, as a slow sweep).
     """
 
     omega: np.ndarray
@@ -373,6 +376,7 @@ class CyclicForcedResponse:
     runtime_s: float
     cpu_s: float
     n_evaluations: int
+    n_restarts: int = 0
 
     @property
     def success(self) -> bool:
@@ -404,6 +408,7 @@ def cyclic_frequency_response(problem: CyclicHarmonicBalance, omega_start: float
                               min_step: float | None = None, max_step: float | None = None,
                               max_points: int = 500, tol: float = 1e-9,
                               load_scale: float = 1.0, max_angle_deg: float = 25.0,
+                              max_iter: int = 20, max_jumps: int = 20,
                               blas: int | None = 1) -> CyclicForcedResponse:
     """Frequency (or speed) response of the travelling-wave steady state by continuation.
 
@@ -420,6 +425,12 @@ def cyclic_frequency_response(problem: CyclicHarmonicBalance, omega_start: float
         stuck-contact response, so a resonance with slipping contacts is many scales high.
     load_scale : float
         Multiplies the load.
+    max_iter : int
+        Corrector iterations per step.
+    max_jumps : int
+        Largest number of natural-parameter restarts when the arclength corrector stalls
+        (the static/kinetic friction law makes the residual discontinuous): Newton with
+        backtracking at ``Omega_last + (1e-4 .. 3e-2) (omega_end - omega_start)``.
     blas : int or None
         BLAS threads (default 1).
 
@@ -447,14 +458,46 @@ def cyclic_frequency_response(problem: CyclicHarmonicBalance, omega_start: float
 
         x0 = np.zeros(pb.N_unknowns)
         start = newton(lambda x: residual(x, omega_start)[:2], x0, tol=tol, max_iter=100)
-        cres = solve_and_continue(
-            start.x, residual, omega_start, omega_end, step,
-            ds_min=min_step if min_step is not None else step / 1000.0,
-            ds_max=max_step,
-            x_scale=1.0, lam_scale=abs(omega_end - omega_start), tol=tol,
-            max_steps=max_points, max_angle_deg=max_angle_deg, blas=None)
+        xs, lams, n_ev, jumps = [], [], 0, 0
+        lam0, xstart = omega_start, start.x
+        span = omega_end - omega_start
+        while True:
+            cres = solve_and_continue(
+                xstart, residual, lam0, omega_end, step,
+                ds_min=min_step if min_step is not None else step / 1000.0,
+                ds_max=max_step, x_scale=1.0, lam_scale=abs(span), tol=tol,
+                max_iter=max_iter, max_steps=max(max_points - len(lams), 2),
+                max_angle_deg=max_angle_deg, blas=None)
+            xs.extend(cres.x)
+            lams.extend(cres.lam)
+            n_ev += cres.n_evaluations
+            if cres.status != 2 or not cres.n_points or jumps >= max_jumps \
+                    or len(lams) >= max_points:
+                break
+            # the arclength corrector stalled (a kink of the friction residual): step on in
+            # the natural parameter with damped Newton from the last point, as a slow sweep
+            # would (a fold passed this way is a jump, counted in the message)
+            xl, ll = cres.x[-1], cres.lam[-1]
+            for frac in (1e-4, 1e-3, 3e-3, 1e-2, 3e-2):
+                lam_try = ll + frac * span
+                if (lam_try - omega_end) * np.sign(span) > 0:
+                    lam_try = omega_end
+                nr = newton(lambda x, lt=lam_try: residual(x, lt)[:2], xl, tol=tol,
+                            max_iter=50)
+                if nr.success:
+                    break
+            if not nr.success:
+                break
+            jumps += 1
+            lam0, xstart = lam_try, nr.x
+            if lam_try == omega_end:
+                xs.append(nr.x)
+                lams.append(lam_try)
+                cres = type(cres)(cres.x, cres.lam, cres.iterations, (), 0,
+                                  "reached the end of the parameter interval", 0, 0)
+                break
         Xs, Us, Fs, we, wv, wc, ek = [], [], [], [], [], [], []
-        for x, w in zip(cres.x, cres.lam, strict=True):
+        for x, w in zip(xs, lams, strict=True):
             X, U, F = pb.sector_harmonics(x, w, x_scale=x_ref, load_scale=load_scale)
             e = pb.energies(X, U, F, w, load_scale)
             Xs.append(X)
@@ -466,15 +509,17 @@ def cyclic_frequency_response(problem: CyclicHarmonicBalance, omega_start: float
             ek.append(e["E_max"])
     we, wv, wc = np.array(we), np.array(wv), np.array(wc)
     err = np.abs(we - wv - wc) / np.maximum(np.abs(we), 1e-300)
-    n_p = cres.n_points
+    n_p = len(lams)
     shape = (0, pb.H + 1, pb.n)
+    msg = cres.message + (f"; {jumps} natural-parameter restart(s) after corrector stalls"
+                          if jumps else "")
     return CyclicForcedResponse(
-        omega=np.asarray(cres.lam, float),
+        omega=np.asarray(lams, float),
         sector_harmonics=np.array(Xs) if n_p else np.zeros(shape, complex),
         contact_displacement=np.array(Us) if n_p else np.zeros((0, pb.m, pb.nh)),
         contact_force=np.array(Fs) if n_p else np.zeros((0, pb.m, pb.nh)),
         work_external=we, work_viscous=wv, work_contact=wc, kinetic_energy=np.array(ek),
         energy_balance_error=err, nd=pb.nd, harmonics=pb.H, samples=pb.basis.samples,
-        status=int(cres.status), message=cres.message,
+        status=int(cres.status), message=msg,
         runtime_s=time.perf_counter() - t0, cpu_s=time.process_time() - c0,
-        n_evaluations=int(cres.n_evaluations))
+        n_evaluations=int(n_ev), n_restarts=jumps)
