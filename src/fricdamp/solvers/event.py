@@ -389,6 +389,8 @@ class _Run:
         self.proj_energy = 0.0
         #: optional list of PhaseRecord (shooting's variational equations need the phases)
         self.trace: list | None = None
+        #: integrate the work terms (shooting's return maps do without: NaN energies)
+        self.with_energy = True
 
     # ------------------------------------------------------------ start and decisions
     def start(self, q, qd):
@@ -522,7 +524,8 @@ class _Run:
         times[-1] = t_stop
         n_rec = times.size if (last and t_stop > ts) else times.size - 1
         q, qd, lamN, lamT = phase.outputs(times)
-        cum = self._energy(phase, times)
+        cum = (self._energy(phase, times) if self.with_energy
+               else np.full((3, times.size), np.nan))
         e = self.acc[:, None] + cum[:, :n_rec]
         self.acc = self.acc + cum[:, -1]
         kin, pot = self._mech(q[:n_rec], qd[:n_rec])

@@ -76,13 +76,14 @@ from __future__ import annotations
 
 import logging
 import time as _time
+import weakref
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg as sla
 from scipy.integrate import solve_ivp
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq
 
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
 from fricdamp.solvers.event import _Run
@@ -256,6 +257,21 @@ class _Linearizer:
         return np.eye(2 * n) + np.outer(f_plus - f_minus, grad) / hdot, n_sim
 
 
+_CONFIGS: dict[int, tuple] = {}
+
+
+def _config_cache(lf) -> dict:
+    """The LinearConfig cache of a LinearForm (kept while the form lives)."""
+    entry = _CONFIGS.get(id(lf))
+    if entry is None or entry[0]() is not lf:
+        if len(_CONFIGS) > 64:
+            for key in [k for k, (ref, _) in _CONFIGS.items() if ref() is None]:
+                del _CONFIGS[key]
+        entry = (weakref.ref(lf), {})
+        _CONFIGS[id(lf)] = entry
+    return entry[1]
+
+
 def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "auto",
          rtol: float = 1e-10, atol: float = 1e-12, max_events: int = 100_000,
          max_step: float = np.inf, monodromy: bool = True) -> Flow:
@@ -297,7 +313,10 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
     te = np.array([t0, t1]) if t_eval is None else np.asarray(t_eval, float)
     wall = _time.perf_counter()
     run = _Run(system, lf, t0, t1, te, rtol, atol, max_step)
+    if lf is not None:  # the phases' configurations are shared by the flows of one system
+        run.configs = _config_cache(lf)
     run.trace = []
+    run.with_energy = False
     run.start(y[:n], y[n:])
     status, message = run.loop(int(max_events))
     if status != 0:
@@ -436,41 +455,34 @@ def _scales(q, qd):
 
 
 def _amplitudes(trace, n_dof):
-    """Exact half peak-to-peak per DOF over the phases of a traced orbit."""
+    """Exact half peak-to-peak per DOF over the phases of a traced orbit.
+
+    Each phase is sampled (17 points); the extreme samples are refined where the velocity
+    changes sign beside them (Brent's method on q'_j to round-off) and compared with the
+    phase ends."""
     lo = np.full(n_dof, np.inf)
     hi = np.full(n_dof, -np.inf)
-    arg_lo = [None] * n_dof
-    arg_hi = [None] * n_dof
     for rec in trace:
         ta, tb = rec.t_start, rec.t_end
         if tb <= ta:
             continue
         ts = np.linspace(ta, tb, 17)
-        q = rec.phase.outputs(ts)[0]
+        q, qd = rec.phase.outputs(ts)[:2]
+        lo = np.minimum(lo, q.min(axis=0))
+        hi = np.maximum(hi, q.max(axis=0))
         for j in range(n_dof):
-            k = int(np.argmin(q[:, j]))
-            if q[k, j] < lo[j]:
-                lo[j], arg_lo[j] = q[k, j], (rec, ts, k)
-            k = int(np.argmax(q[:, j]))
-            if q[k, j] > hi[j]:
-                hi[j], arg_hi[j] = q[k, j], (rec, ts, k)
-    for j in range(n_dof):
-        for sign, arg in ((1.0, arg_lo[j]), (-1.0, arg_hi[j])):
-            rec, ts, k = arg
-            a, b = ts[max(k - 1, 0)], ts[min(k + 1, ts.size - 1)]
-            if b <= a:
-                continue
+            for k in (int(np.argmin(q[:, j])), int(np.argmax(q[:, j]))):
+                for a, b in ((k - 1, k), (k, k + 1)):
+                    if a < 0 or b >= ts.size or not qd[a, j] * qd[b, j] < 0:
+                        continue
 
-            def fun(t, rec=rec, j=j, sign=sign):
-                return sign * float(rec.phase.outputs(np.array([t]))[0][0, j])
+                    def vel(t, rec=rec, j=j):
+                        return float(rec.phase.outputs(np.array([t]))[1][0, j])
 
-            r = minimize_scalar(fun, bounds=(a, b), method="bounded",
-                                options={"xatol": 1e-13 * max(abs(b), b - a)})
-            v = sign * r.fun
-            if sign > 0:
-                lo[j] = min(lo[j], v)
-            else:
-                hi[j] = max(hi[j], v)
+                    tr = brentq(vel, ts[a], ts[b], xtol=4 * _EPS * max(abs(tb), tb - ta),
+                                rtol=4 * _EPS)
+                    v = float(rec.phase.outputs(np.array([tr]))[0][0, j])
+                    lo[j], hi[j] = min(lo[j], v), max(hi[j], v)
     return 0.5 * (hi - lo)
 
 
@@ -516,8 +528,59 @@ def detect_period_multiple(system: ConstrainedSystem, period: float, y0, *, t0: 
     return m, fl.y_end, float(d[m - 1])
 
 
-def shoot(system: ConstrainedSystem, period: float, y0=None, *, period_multiple: int | None = None,
-          t0: float = 0.0, transient_periods: int = 20, max_multiple: int = 8,
+def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
+    """Newton with backtracking on ``P^n(y) - y``.
+
+    Returns (y, flow at y, scaled residual, iterations, message)."""
+    n = int(system.n_dof)
+    t1 = t0 + nmul * period
+
+    def evaluate(yy):
+        fl = flow(system, (t0, t1), yy, **kw)
+        q, qd = fl.result.q, fl.result.qd
+        sq, sv = _scales(np.vstack([q, yy[None, :n]]), np.vstack([qd, yy[None, n:]]))
+        scale = np.concatenate([np.full(n, sq), np.full(n, sv)])
+        r = fl.y_end - yy
+        return fl, r, float(np.max(np.abs(r) / scale))
+
+    fl, r, norm = evaluate(y)
+    it = 0
+    message = "converged"
+    while norm > tol and it < max_iter:
+        it += 1
+        A = fl.monodromy - np.eye(2 * n)
+        try:
+            step = -np.linalg.solve(A, r)
+        except np.linalg.LinAlgError:
+            step = -np.linalg.lstsq(A, r, rcond=1e-14)[0]
+        lam = 1.0
+        best = None
+        for _ in range(10):
+            try:
+                trial = evaluate(y + lam * step)
+            except ConvergenceError:
+                trial = None
+            if trial is not None and (best is None or trial[2] < best[0][2]):
+                best = (trial, lam)
+            if trial is not None and trial[2] < (1 - 1e-4 * lam) * norm:
+                break
+            lam *= 0.5
+        if best is None:
+            message = "the solver failed at every Newton trial point"
+            break
+        (fl, r, norm), lam = best
+        y = y + lam * step
+    if norm > tol and message == "converged":
+        message = (f"Newton did not converge in {max_iter} iterations (residual {norm:.3g} > "
+                   f"tol {tol:g}) for period multiple {nmul}; try another y0, more "
+                   "transient_periods or another period_multiple")
+    return y, fl, norm, it, message
+
+
+def shoot(
+system: ConstrainedSystem, period: float, y0=None, *, period_multiple: int | None = None,
+          t0: float = 0.0, transient_periods: int = 5, max_multiple: int = 8,
+          detect_periods: int = 40,
           tol: float = 1e-11, max_iter: int = 30, method: str = "auto", rtol: float = 1e-10,
           atol: float = 1e-12, stability_margin: float = 1e-6, samples_per_period: int = 64,
           throw: bool = False) -> PeriodicOrbit:
@@ -533,14 +596,17 @@ def shoot(system: ConstrainedSystem, period: float, y0=None, *, period_multiple:
         Starting state at ``t0`` (default rest at q = 0). It is first integrated over
         ``transient_periods`` periods unless ``transient_periods = 0``.
     period_multiple : int, optional
-        n of the period-n orbit sought; by default detected from the return map of the
-        transient (:func:`detect_period_multiple`).
+        n of the period-n orbit sought. By default a period-1 orbit is sought first from the
+        transient; if Newton fails or the orbit is unstable, ``detect_periods`` more periods
+        are integrated and n is read from their return map (:func:`detect_period_multiple`).
     t0 : float
         Time of the Poincare section [s].
     transient_periods : int
         Periods integrated before Newton (a starting guess near the attractor).
     max_multiple : int
         Largest n tried by the detection.
+    detect_periods : int
+        Periods integrated for the detection (at least ``2 max_multiple + 1``).
     tol : float
         Newton tolerance on the scaled residual ``|P(y0) - y0|`` (positions scaled by the
         orbit's largest |q|, velocities by its largest |q'|).
@@ -584,58 +650,38 @@ def shoot(system: ConstrainedSystem, period: float, y0=None, *, period_multiple:
     if period_multiple is not None and int(period_multiple) < 1:
         raise ModelError(f"period_multiple must be >= 1, got {period_multiple!r}")
     kw = dict(method=method, rtol=rtol, atol=atol)
-    if period_multiple is None:
-        nmul, y, _ = detect_period_multiple(system, period, y, t0=t0,
-                                            periods=max(transient_periods, 2 * max_multiple + 1),
-                                            max_multiple=max_multiple, **kw)
-    else:
+    if transient_periods > 0:
+        y = flow(system, (t0, t0 + transient_periods * period), y, monodromy=False,
+                 **kw).y_end
+
+    def stable_of(fl):
+        mu = np.abs(np.linalg.eigvals(fl.monodromy))
+        return bool(mu.max() < 1 - stability_margin) if mu.size else True
+
+    if period_multiple is not None:
         nmul = int(period_multiple)
-        if transient_periods > 0:
-            y = flow(system, (t0, t0 + transient_periods * period), y, monodromy=False,
-                     **kw).y_end
-    t1 = t0 + nmul * period
-
-    def evaluate(yy):
-        fl = flow(system, (t0, t1), yy, **kw)
-        q, qd = fl.result.q, fl.result.qd
-        sq, sv = _scales(np.vstack([q, yy[None, :n]]), np.vstack([qd, yy[None, n:]]))
-        scale = np.concatenate([np.full(n, sq), np.full(n, sv)])
-        r = fl.y_end - yy
-        return fl, r, float(np.max(np.abs(r) / scale))
-
-    fl, r, norm = evaluate(y)
-    it = 0
-    message = "converged"
-    while norm > tol and it < max_iter:
-        it += 1
-        A = fl.monodromy - np.eye(2 * n)
-        try:
-            step = -np.linalg.solve(A, r)
-        except np.linalg.LinAlgError:
-            step = -np.linalg.lstsq(A, r, rcond=1e-14)[0]
-        lam = 1.0
-        best = None
-        for _ in range(10):
-            try:
-                trial = evaluate(y + lam * step)
-            except ConvergenceError:
-                trial = None
-            if trial is not None and (best is None or trial[2] < best[0][2]):
-                best = (trial, lam)
-            if trial is not None and trial[2] < (1 - 1e-4 * lam) * norm:
-                break
-            lam *= 0.5
-        if best is None:
-            message = "the solver failed at every Newton trial point"
-            break
-        (fl, r, norm), lam = best
-        y = y + lam * step
+        y, fl, norm, it, message = _newton(system, period, nmul, t0, y, tol, max_iter, kw)
+    else:
+        # a stable period-1 orbit near the transient is the attractor it approaches;
+        # otherwise the return map of a longer transient says which n to look for
+        y1, fl, norm, it, message = _newton(system, period, 1, t0, y, tol, max_iter, kw)
+        nmul = 1
+        if norm <= tol and stable_of(fl):
+            y = y1
+        else:
+            nmul, y_d, _ = detect_period_multiple(
+                system, period, y, t0=t0, periods=max(detect_periods, 2 * max_multiple + 1),
+                max_multiple=max_multiple, **kw)
+            if nmul == 1 and norm <= tol:
+                y = y1  # the unstable period-1 orbit is what the return map shows
+            else:
+                y, fl, norm, it2, message = _newton(system, period, nmul, t0, y_d, tol,
+                                                    max_iter, kw)
+                it += it2
     success = norm <= tol
-    if not success and message == "converged":
-        message = (f"Newton did not converge in {max_iter} iterations (residual {norm:.3g} > "
-                   f"tol {tol:g}); try another y0, more transient_periods or a period_multiple")
     if not success and throw:
         raise ConvergenceError(message)
+    t1 = t0 + nmul * period
     # final orbit: samples and exact extrema
     te = np.linspace(t0, t1, nmul * int(samples_per_period) + 1)
     fin = flow(system, (t0, t1), y, t_eval=te, monodromy=False, **kw)
