@@ -309,7 +309,8 @@ class CampbellByNDAnalysis(Section):
 
 
 def _check_campbell(model, spec: CampbellByNDAnalysis) -> None:
-    obj = _require_model(model, "[analysis.campbell_by_nd]")
+    obj = model if _solid(model) is not None else _require_model(
+        model, "[analysis.campbell_by_nd]")
     _check_nds(obj, "critical_pairs", [nd for _, nd in spec.critical_pairs])
 
 
@@ -325,6 +326,8 @@ def run_campbell_by_nd(model: TiebossWheelCaseModel, spec: CampbellByNDAnalysis,
         critical_speeds_by_nd,
     )
 
+    if (solid := _solid(model)) is not None:
+        return solid.run_solid_campbell(model, spec, ctx)
     obj = _require_model(model, "[analysis.campbell_by_nd]")
     rpm = np.linspace(spec.speed_min_rpm, spec.speed_max_rpm, spec.n_speeds)
     camp = campbell_by_nd(obj.sector, rpm=rpm)

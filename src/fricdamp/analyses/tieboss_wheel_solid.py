@@ -337,6 +337,88 @@ def is_solid(model) -> bool:
     return isinstance(model, SolidWheelCaseModel)
 
 
+# ============================================================================= campbell
+def rotation(model: SolidWheelCaseModel):
+    """Rotation terms of the model's sector per Omega^2 (cached)."""
+    from fricdamp.models.solid_campbell import rotation_terms
+
+    if model.solid is None:
+        raise CaseError("[analysis.campbell_by_nd] needs the sector's solid model")
+    if "rotation" not in model._cache:
+        model._cache["rotation"] = rotation_terms(model.sector, model.solid)
+    return model._cache["rotation"]
+
+
+def run_solid_campbell(model: SolidWheelCaseModel, spec, ctx: RunContext) -> AnalysisOutput:
+    """Campbell diagram by ND of the solid wheel (stress stiffening and spin softening of the
+    solid, :mod:`fricdamp.models.solid_campbell`) and the critical speeds 003 (1); the same
+    summary keys as the beam wheel's ``campbell_by_nd``. Each critical speed is checked by a
+    direct eigen-solution of the unreduced sector at that speed (``ritz_error``)."""
+    import xarray as xr
+
+    from fricdamp.analyses._tieboss_figures import _campbell_figures
+    from fricdamp.models.solid_campbell import _at_speed, campbell_solid, critical_speeds_solid
+    from fricdamp.models.tieboss_analyses import (
+        TABLE2_FREQUENCY_HZ,
+        TABLE2_ORDERS,
+        TABLE2_RPM,
+    )
+    from fricdamp.solvers.modal import critical_speeds
+    from fricdamp.structure.cyclic import nodal_diameter_modes
+    from fricdamp.verdict import judge
+
+    rot = rotation(model)
+    rpm = np.linspace(spec.speed_min_rpm, spec.speed_max_rpm, spec.n_speeds)
+    camp = campbell_solid(model.sector, rot, rpm)
+    pairs = [tuple(p) for p in spec.critical_pairs]
+    crit = critical_speeds_solid(model.sector, rot, orders=pairs, pulses=spec.pulses,
+                                 rpm_range=(spec.speed_min_rpm, spec.speed_max_rpm))
+    paper = ({tuple(p) for p in TABLE2_ORDERS} if model.paper and model.n_blades == 30
+             and spec.pulses == 8 else set())
+    notes, ritz = [], 0.0
+    for c in crit:
+        if c["rpm"] is None:
+            notes.append(f"the {c['nd']}ND branch does not meet the line p o n / 60 (o = "
+                         f"{c['order']}) between {spec.speed_min_rpm:g} and "
+                         f"{spec.speed_max_rpm:g} rpm: no critical speed there")
+            continue
+        direct = nodal_diameter_modes(_at_speed(model.sector.cyclic, rot,
+                                                c["rpm"] * np.pi / 30.0), c["nd"], 1)
+        ritz = max(ritz, abs(direct.frequencies[0] / c["frequency_hz"] - 1.0))
+        if (c["order"], c["nd"]) in paper:
+            o = c["order"]
+            c.update(paper_rpm=TABLE2_RPM[o], paper_frequency_hz=TABLE2_FREQUENCY_HZ[o],
+                     paper_formula_rpm=float(critical_speeds(TABLE2_FREQUENCY_HZ[o], o,
+                                                             spec.pulses)))
+    F = camp.frequency_hz
+    summary = {"rpm": rpm.tolist(), "nd": camp.nd.tolist(), "frequency_hz": F.T.tolist(),
+               "pulses": spec.pulses, "orders": list(spec.orders),
+               "critical_pairs": [list(p) for p in pairs],
+               "frequency_change_hz": (F[-1] - F[0]).tolist(),
+               "coriolis": "neglected (O(Omega / w) ~ 2 % of these flexural modes at 450 rpm)",
+               "rotation_terms": "solid: geometric stiffness of the zero-ND centrifugal "
+                                 "prestress, spin softening of the consistent mass",
+               "ritz_error": ritz}
+    arrays = {"campbell": xr.Dataset(
+        {"frequency": (("speed", "nd"), F, {"units": "Hz"})},
+        coords={"rpm": ("speed", rpm, {"units": "rpm"}), "nd": ("nd", camp.nd)})}
+    found = [c for c in crit if c["rpm"] is not None]
+    headline = (f"{rpm.size} speeds {rpm[0]:g}-{rpm[-1]:g} rpm, {camp.nd.size} ND branches "
+                "(solid); " + ("; ".join(
+                    f"o = {c['order']} ({c['nd']}ND): {c['rpm']:.1f} rpm at "
+                    f"{c['frequency_hz']:.2f} Hz"
+                    + (f" (paper {c['paper_rpm']:g})" if "paper_rpm" in c else "")
+                    for c in found) if found else "no critical speed in the range"))
+    verdict = judge({"ritz_error": ritz}, thresholds={"ritz_error": 1e-6})
+
+    def figures():
+        return _campbell_figures(camp, crit, spec)
+
+    return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
+                          notes=notes, top_level={"critical_speeds_rpm": crit},
+                          verdict=verdict)
+
+
 # ================================================================================ modal
 def run_solid_modal(model: SolidWheelCaseModel, spec, ctx: RunContext) -> AnalysisOutput:
     """Frequencies by ND of the unreduced sector, Table 1, the reduced wheel beside them."""

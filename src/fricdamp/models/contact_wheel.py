@@ -113,6 +113,9 @@ class WheelSector:
         ``(a, b)``: material damping ``D = a M + b K`` [1/s, s].
     info : dict
         Descriptive numbers for summary.json (element type, element count, ...).
+    solid_dofs : ndarray of int, optional
+        DOF of the solid model (:class:`~fricdamp.structure.solid.SolidModel`) behind each
+        sector DOF (the supports removed); set by :func:`sector_from_solid`.
     """
 
     cyclic: CyclicSector
@@ -121,6 +124,7 @@ class WheelSector:
     probe_direction: np.ndarray
     rayleigh: tuple = (0.0, 0.0)
     info: dict = field(default_factory=dict)
+    solid_dofs: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.cyclic, CyclicSector):
@@ -263,7 +267,7 @@ def sector_from_solid(solid, *, n_sectors: int, youngs_modulus: float,
             "cut_dof": int(left.size)}
     meta.update(info or {})
     return WheelSector(cyc, patch, float(youngs_modulus), np.asarray(probe_direction),
-                       rayleigh=tuple(rayleigh), info=meta)
+                       rayleigh=tuple(rayleigh), info=meta, solid_dofs=free_dofs)
 
 
 @dataclass(frozen=True, eq=False)

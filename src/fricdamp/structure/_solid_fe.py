@@ -247,3 +247,43 @@ def assemble_skfem(disc: Discretisation, elements: np.ndarray, lam, mu, rho,
                                          shape=(n_dof, n_dof)))
 
     return permute(K_sk), permute(M_sk)
+
+
+def assemble_geometric(basis, sk2node: np.ndarray, lam, mu, u: np.ndarray, n_nodes: int, *,
+                       block_bytes: float = 64e6) -> sp.csr_matrix:
+    """Geometric (initial-stress) stiffness ``K_sigma`` [N/m] of the stress of ``u``.
+
+    ``u`` (n_nodes, 3) is a displacement field [m]; its small-strain stress
+    ``sigma = lam tr(eps) I + 2 mu eps`` at every quadrature point gives
+    ``K_sigma[3a + i, 3b + i] = int grad N_a . sigma . grad N_b dV`` (the same for each
+    component i, zero between components): the second variation of the Green-Lagrange strain
+    energy of the prestress, e.g. Zienkiewicz, Taylor & Fox (2014), *The Finite Element
+    Method for Solid and Structural Mechanics*, 7th ed., sec. 10.3 (buckling). All elements
+    are used (``lam``, ``mu`` per element [Pa]).
+    """
+    nb = basis.Nbfun
+    edofs = sk2node[np.asarray(basis.element_dofs)].T                # (n_el, nb) FE nodes
+    n_el = edofs.shape[0]
+    n_q = basis.dx.shape[1]
+    block = max(1, int(block_bytes // (8 * 3 * nb * n_q * 4)))
+    rows = np.empty(n_el * nb * nb, dtype=np.int64)
+    cols = np.empty_like(rows)
+    data = np.empty(n_el * nb * nb)
+    for start in range(0, n_el, block):
+        sl = np.arange(start, min(start + block, n_el))
+        g = np.stack([basis.basis[a][0].grad[:, sl] for a in range(nb)], axis=1)  # (3,nb,n,q)
+        ue = u[edofs[sl]]                                                 # (n, nb, 3)
+        H = np.einsum("eai,jaeq->eijq", ue, g)                           # du_i/dx_j
+        eps = 0.5 * (H + H.transpose(0, 2, 1, 3))
+        tr = np.einsum("eiiq->eq", eps)
+        sig = 2.0 * mu[sl, None, None, None] * eps
+        for i in range(3):
+            sig[:, i, i, :] += lam[sl, None] * tr
+        kg = np.einsum("jaeq,ejkq,kbeq,eq->eab", g, sig, g, basis.dx[sl], optimize=True)
+        nodes = edofs[sl]
+        k = slice(start * nb * nb, (start + sl.size) * nb * nb)
+        rows[k] = np.repeat(nodes, nb, axis=1).ravel()
+        cols[k] = np.tile(nodes, (1, nb)).ravel()
+        data[k] = kg.ravel()
+    Ks = sp.coo_matrix((data, (rows, cols)), shape=(n_nodes, n_nodes)).tocsr()
+    return symmetrised(sp.kron(Ks, sp.identity(3, format="csr"), format="csr"))

@@ -91,6 +91,12 @@ class SolidModel:
         ``{region: (K_i, M_i)}`` with ``K = sum K_i``, ``M = sum M_i`` when assembled with
         ``split_by_set=True``: one region per key of ``materials`` and ``"rest"``.
         Empty otherwise.
+    lame : ndarray, shape (n_elements, 2)
+        Lamé constants ``(lambda, mu)`` [Pa] of each element (for stresses and the geometric
+        stiffness of :mod:`fricdamp.structure.solid_rotation`); None for models not
+        assembled by :func:`assemble_solid`.
+    element_region : ndarray of int, shape (n_elements,)
+        Region of each element: 0 ``"rest"``, k the k-th key of ``materials``.
     """
 
     K: sp.csr_matrix
@@ -106,6 +112,8 @@ class SolidModel:
     point_nodes: np.ndarray = field(default=None, repr=False)
     parts: dict[str, tuple[sp.csr_matrix, sp.csr_matrix]] = field(default_factory=dict,
                                                                    repr=False)
+    lame: np.ndarray | None = field(default=None, repr=False)
+    element_region: np.ndarray | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -294,7 +302,11 @@ class SolidModel:
                  for k, (Ki, Mi) in self.parts.items()}
         K = sum(Ki for Ki, _ in parts.values()).tocsr()
         M = sum(Mi for _, Mi in parts.values()).tocsr()
-        return replace(self, K=K, M=M, parts=parts)
+        lame = self.lame
+        if lame is not None and self.element_region is not None:
+            scale = np.array([float(stiffness.get(k, 1.0)) for k in self.parts])
+            lame = lame * scale[self.element_region][:, None]
+        return replace(self, K=K, M=M, parts=parts, lame=lame)
 
 
 # ---------------------------------------------------------------------------- assembly
@@ -391,7 +403,8 @@ def assemble_solid(mesh: SolidMesh, *, youngs_modulus: float, poisson_ratio: flo
                       element_type=element_type, n_elements=mesh.n_cells,
                       node_sets=node_sets, elements=disc.elements, cell_type=disc.cell_type,
                       cell_sets=dict(mesh.cell_sets), point_nodes=disc.point_node,
-                      parts=parts)
+                      parts=parts, lame=np.column_stack([lam_e, mu_e]),
+                      element_region=region)
 
 
 def _regions(mesh: SolidMesh, E: float, nu: float, rho: float,
