@@ -273,6 +273,15 @@ class CyclicHarmonicBalance:
             stuck.append(np.abs(np.array(us)).max())
         return float(max(np.max(stuck), np.median(free)))
 
+    def stuck_response(self, omega: float, load_scale: float = 1.0) -> np.ndarray:
+        """Contact-row coefficients (m, 2H+1) of the linear response with the contacts'
+        virgin tangent stiffness (the first guess of Newton, as the full-wheel HB's)."""
+        Kc = self.contact_stiffness()
+        R, _, ul, _ = self.compliance(float(omega))
+        U = np.array([np.linalg.solve(np.eye(self.m) + R[h] @ Kc, load_scale * ul[h])
+                      for h in range(self.H + 1)])
+        return _real(U)
+
     # ------------------------------------------------------------------ residual
     def evaluate(self, y, omega, *, scale: float = 1.0, x_scale: float = 1.0,
                  load_scale: float = 1.0, jacobian: bool = True):
@@ -456,8 +465,12 @@ def cyclic_frequency_response(problem: CyclicHarmonicBalance, omega_start: float
         def residual(x, lam):
             return pb.evaluate(x, lam, scale=scale, x_scale=x_ref, load_scale=load_scale)
 
-        x0 = np.zeros(pb.N_unknowns)
-        start = newton(lambda x: residual(x, omega_start)[:2], x0, tol=tol, max_iter=100)
+        start = None
+        for g in (np.zeros((pb.m, pb.nh)), pb.stuck_response(omega_start, load_scale)):
+            start = newton(lambda x: residual(x, omega_start)[:2], g.ravel() / x_ref,
+                           tol=tol, max_iter=100)
+            if start.success:
+                break
         xs, lams, n_ev, jumps = [], [], 0, 0
         lam0, xstart = omega_start, start.x
         span = omega_end - omega_start
