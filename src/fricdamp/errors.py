@@ -25,16 +25,32 @@ class CaseError(FricdampError, ValueError):
     """A case file is invalid (typo'd key, wrong type, value out of range)."""
 
 
+def _short(value) -> str:
+    """``repr`` of a value, cut to 60 characters (an array can be millions of numbers)."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def as_finite_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
-    """Return ``value`` as a float array, raising ModelError if it holds NaN or inf."""
+    """Return ``value`` as a float array, raising ModelError if it holds NaN or inf.
+
+    The message names the first bad entry by its 1-based position (as the product counts)."""
+    if isinstance(value, (str, bytes)):
+        raise ModelError(f"{name} must be numeric, got {_short(value)}")
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ModelError(f"{name} must be numeric, got {value!r}") from exc
+        raise ModelError(f"{name} must be numeric, got {_short(value)}") from exc
     if ndim is not None and arr.ndim != ndim:
         raise ModelError(f"{name} must have {ndim} dimension(s), got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ModelError(f"{name} must be finite (no NaN or inf), got {value!r}")
+    finite = np.isfinite(arr)
+    if not np.all(finite):
+        if arr.ndim == 0:
+            raise ModelError(f"{name} must be finite (no NaN or inf), got {_short(value)}")
+        where = tuple(int(i) + 1 for i in np.argwhere(~finite)[0])
+        pos = where[0] if len(where) == 1 else where
+        raise ModelError(f"{name} must be finite (no NaN or inf): entry {pos} (counting from "
+                         f"1) is {arr[tuple(i - 1 for i in where)]}")
     return arr
 
 

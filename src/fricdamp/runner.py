@@ -716,6 +716,33 @@ def _build_chain(spec: ChainModel, ctx: BuildContext):
                  ground=spec.ground, dof_names=spec.dof_names)
 
 
+#: Largest matrix file read by ``[model] type = "matrices"`` (a dense 10,000 x 10,000 matrix
+#: in Matrix Market text is about 2.5 GB; a sector's sparse matrices are far smaller).
+MAX_MATRIX_FILE_BYTES = 4 * 2**30
+
+
+def _check_matrix_file(path: Path, key: str, rel: str) -> None:
+    """A matrix file must be an existing regular file of sensible size (ModelError)."""
+    import stat
+
+    if str(rel).strip() in ("", ".", ".."):
+        raise ModelError(f"{key} = {rel!r} is not a file name: give the path of a Matrix "
+                         "Market (.mtx) or ANSYS (.full) file, relative to the case file")
+    try:
+        st = path.stat()
+    except FileNotFoundError:
+        raise ModelError(f"{key} = {rel!r}: the file {str(path)!r} does not exist") from None
+    except OSError as exc:
+        raise ModelError(f"{key} = {rel!r}: cannot read {str(path)!r} ({exc.strerror})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ModelError(f"{key} = {rel!r} is a folder ({str(path)!r}), not a matrix file")
+    if not stat.S_ISREG(st.st_mode):
+        raise ModelError(f"{key} = {rel!r} is not a regular file (a device or pipe)")
+    if st.st_size > MAX_MATRIX_FILE_BYTES:
+        raise ModelError(f"{key} = {rel!r} is {st.st_size / 2**30:.1f} GiB; matrix files may "
+                         f"be at most {MAX_MATRIX_FILE_BYTES / 2**30:.0f} GiB")
+
+
 def _build_matrices(spec: MatricesModel, ctx: BuildContext):
     from fricdamp.structure import from_matrices
     from fricdamp.structure.io import read_matrix
@@ -726,6 +753,7 @@ def _build_matrices(spec: MatricesModel, ctx: BuildContext):
         if rel is None:
             continue
         path = Path(rel) if Path(rel).is_absolute() else ctx.base_dir / rel
+        _check_matrix_file(path, key, rel)
         try:
             mats[key] = read_matrix(path, key)
         except ModelError as exc:

@@ -35,6 +35,7 @@ from fricdamp.runner import (
     register_analysis,
     register_model,
 )
+from fricdamp.verdict import judge
 
 MODEL_TYPE = "blade_damper"
 _ANALYSES = ("[analysis.eigenfrequencies], [analysis.time_response], [analysis.pulloff_curves], "
@@ -249,8 +250,16 @@ def run_time_response(obj, spec: TimeResponseAnalysis, ctx: RunContext) -> Analy
         return [("time_response.png", "Phase plot of blade 2 and contact configurations "
                  "(stick/slip of K1 and K2) over time", fig)]
 
+    # a solver that stopped is a failure; a negative normal force (the no-separation model
+    # violated, e.g. when the complementarity solver fails) makes every number unreliable
+    failed = next((e for e in tr.errors if e.startswith("solver:")), None)
+    reasons = [f"{e}; the response is not that of the model" for e in tr.errors
+               if not e.startswith("solver:")]
+    verdict = judge({"energy_balance_error": summary["energy_balance_error"],
+                     "min_normal_force_N": summary["min_normal_force_N"]},
+                    reasons=reasons, failed=failed)
     return AnalysisOutput(summary=summary, arrays={"response": ds}, figures=figures,
-                          headline=headline, notes=notes)
+                          headline=headline, notes=notes, verdict=verdict)
 
 
 # ============================================================================ pull-off
@@ -317,8 +326,13 @@ def run_pulloff(obj, spec: PulloffCurves, ctx: RunContext) -> AnalysisOutput:
         return [("pulloff.png", "Pull-off amplitude vs excitation frequency; dotted: stuck "
                  "eigenfrequencies", fig)]
 
+    verdict = judge({"unconfirmed_limits": sum(not c["confirmed"] for c in checks)},
+                    reasons=[f"the event-driven runs around the pull-off limit at "
+                             f"{c['frequency_hz']:g} Hz do not confirm it (slip below: "
+                             f"{c['slipped_below']}, above: {c['slipped_above']})"
+                             for c in checks if not c["confirmed"]])
     return AnalysisOutput(summary=summary, figures=figures, headline=headline, notes=notes,
-                          top_level={"pulloff": curves})
+                          top_level={"pulloff": curves}, verdict=verdict)
 
 
 # ============================================================================ design
@@ -403,8 +417,12 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
         ax.legend(fontsize="small")
         return [("design.png", "Resonant blade amplitude vs damper mass and block angle", fig)]
 
+    n_bad = summary["n_designs"] - summary["n_valid_designs"]
+    verdict = judge({"invalid_designs": n_bad},
+                    reasons=[] if summary["n_valid_designs"] else
+                    ["no design point is valid (the damper lifts off or the solver failed)"])
     return AnalysisOutput(summary=summary, figures=figures, headline=headline, notes=notes,
-                          top_level={"design": design})
+                          top_level={"design": design}, verdict=verdict)
 
 
 # ============================================================================ one design
@@ -434,7 +452,9 @@ def run_blade_resonance(obj, spec: BladeResonance, ctx: RunContext) -> AnalysisO
                "converged": bool(np.all(r["converged"]))}
     if r["errors"]:
         raise ModelError("; ".join(r["errors"][:3]))
-    return AnalysisOutput(summary=summary, headline=(
+    verdict = judge({}, reasons=[] if summary["converged"] else
+                    ["some stepped-sine points did not reach a steady state"])
+    return AnalysisOutput(summary=summary, verdict=verdict, headline=(
         f"resonant blade amplitude {summary['blade_amplitude_m']:.3g} m at "
         f"{summary['peak_frequency_hz']:.4g} Hz"))
 

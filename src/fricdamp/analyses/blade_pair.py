@@ -47,6 +47,7 @@ from fricdamp.runner import (
     register_analysis,
     register_model,
 )
+from fricdamp.verdict import judge
 
 __all__ = [
     "BladePairCaseModel",
@@ -765,8 +766,14 @@ def run_steady_state_sweep(model: BladePairCaseModel, spec: SteadyStateSweepAnal
     def figures():
         return _sweep_figures(entries, orb, o_rpm, spec)
 
+    # sweeps with speeds where the equivalent-damping iteration found no fixed point
+    n_bad = sum(int(np.sum(~np.asarray(e["converged"], bool))) for e in entries)
+    verdict = judge({"energy_balance_error": float(ebe), "unconverged_sweeps": n_bad},
+                    reasons=[f"{n_bad} sweep(s) have speeds without a converged steady "
+                             "state (see the notes)"] if n_bad else [])
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
-                          notes=notes, top_level={"n_dof": obj.n_dof, "steady_state": entries})
+                          notes=notes, top_level={"n_dof": obj.n_dof, "steady_state": entries},
+                          verdict=verdict)
 
 
 def _sweep_figures(entries: list, orb: dict, o_rpm: list, spec: SteadyStateSweepAnalysis

@@ -24,6 +24,7 @@ from fricdamp.runner import (
     register_analysis,
     register_model,
 )
+from fricdamp.verdict import harmonic_truncation, judge
 
 
 # ------------------------------------------------------------------------------- model
@@ -109,7 +110,20 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
     diss = res.dissipated_energy.sum(axis=1) if res.dissipated_energy.size else np.zeros(
         res.n_points)
     ipk = int(np.argmax(amp))
-    notes = [] if res.success else [f"the continuation stopped early: {res.message}"]
+    notes = []
+    f_lo, f_hi = sorted((spec.frequency_start_hz, spec.frequency_end_hz))
+    f_pk = float(res.omega[ipk] / (2 * np.pi))
+    # the largest amplitude at an end of the computed curve is not a resonance peak
+    peak_truncated = res.n_points < 3 or ipk in (0, res.n_points - 1)
+    failed = None
+    if not res.success:
+        f_last = float(res.omega[-1] / (2 * np.pi))
+        failed = (f"the continuation stopped at {f_last:.4g} Hz of {f_lo:g}-{f_hi:g} Hz "
+                  f"(status {res.status}): {res.message}")
+    if peak_truncated:
+        notes.append(f"the largest amplitude is at the end of the computed curve "
+                     f"({f_pk:.4g} Hz): it is truncated, not a resonance peak"
+                     + ("" if res.success else " (the curve is incomplete)"))
     summary = {
         "omega_rad_s": res.omega,
         "frequency_hz": res.omega / (2 * np.pi),
@@ -118,8 +132,9 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
         "external_work_J": res.external_work,
         "response_dof": dof + 1,
         "response_dof_name": system.names[dof],
-        "peak_frequency_hz": float(res.omega[ipk] / (2 * np.pi)),
+        "peak_frequency_hz": f_pk,
         "peak_amplitude_m": float(amp[ipk]),
+        "peak_truncated": bool(peak_truncated),
         "n_points": res.n_points,
         "harmonics": res.harmonics,
         "samples": res.samples,
@@ -131,10 +146,32 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
         "stable": None,
         "bifurcations": None,
     }
+    # harmonic truncation and AFT sampling at the largest response
+    trunc = {}
+    if np.all(np.isfinite(res.coefficients[ipk])):
+        trunc = harmonic_truncation(sys_, float(res.omega[ipk]), res.coefficients[ipk],
+                                    harmonics=res.harmonics, samples=res.samples)
+    reasons = []
+    for key in ("harmonic_truncation", "aft_sampling_error"):
+        if trunc and trunc.get(key) is None:
+            reasons.append(f"the {key.replace('_', ' ')} check at the peak did not converge "
+                           f"({trunc.get(key + '_message', '')[:120]})")
+    verdict = judge({"energy_balance_error": summary["energy_balance_error"],
+                     "harmonic_truncation": trunc.get("harmonic_truncation"),
+                     "aft_sampling_error": trunc.get("aft_sampling_error"),
+                     "harmonics_check": trunc.get("H2"),
+                     "peak_truncated": bool(peak_truncated)},
+                    reasons=reasons, failed=failed)
+    summary["harmonic_truncation"] = trunc.get("harmonic_truncation")
+    summary["aft_sampling_error"] = trunc.get("aft_sampling_error")
+    peak_word = "largest amplitude (at the end of the curve, truncated)" if peak_truncated \
+        else "peak"
     headline = (f"{res.n_points} HB points (H = {res.harmonics}) in {res.wall_time:.2f} s; "
-                f"peak {amp[ipk]:.3g} m of {system.names[dof]} at "
+                f"{peak_word} {amp[ipk]:.3g} m of {system.names[dof]} at "
                 f"{summary['peak_frequency_hz']:.4g} Hz; energy balance error "
                 f"{summary['energy_balance_error']:.1e}")
+    if summary["harmonic_truncation"] is not None:
+        headline += f"; harmonic truncation {summary['harmonic_truncation']:.1e}"
     if res.stable is not None:
         summary.update({
             "stable": res.stable,
@@ -198,7 +235,7 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
         return [("frf.png", caption, fig)]
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
-                          notes=notes)
+                          notes=notes, verdict=verdict)
 
 
 # ------------------------------------------------------------------------------- NMA
@@ -233,7 +270,11 @@ def run_nma(system, spec: NMA, ctx: RunContext) -> AnalysisOutput:
                           amplitude_dof=spec.amplitude_dof - 1)
     if res.amplitude.size == 0:
         raise ConvergenceError(f"nonlinear modal analysis: no converged point ({res.message})")
-    notes = [] if res.success else [f"stopped early: {res.message}"]
+    notes = []
+    failed = None
+    if not res.success:
+        failed = (f"the nonlinear mode stopped at amplitude {res.amplitude[-1]:.3g} of "
+                  f"{spec.amplitudes_m[-1]:.3g} (status {res.status}): {res.message}")
     diss = res.dissipated_energy.sum(axis=1) if res.dissipated_energy.size else np.zeros(
         res.amplitude.size)
     summary = {
@@ -263,8 +304,9 @@ def run_nma(system, spec: NMA, ctx: RunContext) -> AnalysisOutput:
                                               f"{res.harmonics})")
         return [("nma.png", "Nonlinear mode: damping ratio and frequency vs amplitude", fig)]
 
+    verdict = judge({"energy_balance_error": summary["energy_balance_error"]}, failed=failed)
     return AnalysisOutput(summary=summary, arrays={"modes": res.to_xarray()}, figures=figures,
-                          headline=headline, notes=notes)
+                          headline=headline, notes=notes, verdict=verdict)
 
 
 register_analysis("frf", FRF, run_frf, check=_check_frf,

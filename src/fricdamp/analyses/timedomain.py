@@ -11,6 +11,7 @@ import numpy as np
 
 from fricdamp.case import ForcedResponse, FreeDecay, Hysteresis
 from fricdamp.errors import CaseError, ConvergenceError, ModelError
+from fricdamp.limits import check_time_memory
 from fricdamp.runner import AnalysisOutput, RunContext, register_analysis
 from fricdamp.verdict import THRESHOLDS, judge, time_result_verdict
 
@@ -80,6 +81,10 @@ def _contact_labels(system) -> list[tuple[int, int, str]]:
     return out
 
 
+def _contact_rows(system) -> int:
+    return sum(c.n_contacts * c.n_dir for c in system.contacts)
+
+
 def _check_vector(values, n_dof: int, key: str) -> None:
     if values is not None and len(values) != n_dof:
         raise CaseError(f"{key} must have one entry per DOF ({n_dof}), got {len(values)}")
@@ -123,6 +128,8 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
     else:
         dof = int(np.argmax(np.abs(q0))) if np.any(q0) else int(np.argmax(np.abs(v0)))
     sys_ = system.with_loads()
+    check_time_memory(spec.duration_s, spec.time_step_s, n, _contact_rows(system),
+                      save_every=spec.save_every, param="time_step_s")
     res = simulate(sys_, spec.duration_s, spec.time_step_s, q0=q0, v0=v0,
                    save_every=spec.save_every, **ctx.simulate_kwargs())
     if not res.success:
@@ -270,6 +277,8 @@ def run_forced_response(system, spec: ForcedResponse, ctx: RunContext) -> Analys
     period = 1.0 / f_hz
     load = HarmonicLoad(np.asarray(spec.force_amplitude_N, float), 2 * np.pi * f_hz)
     sys_ = system.with_loads(load)
+    check_time_memory(spec.periods * period, period / N, system.n_dof, _contact_rows(system),
+                      param="steps_per_period", value=N)
     res = simulate(sys_, spec.periods * period, period / N, **ctx.simulate_kwargs())
     if not res.success:
         raise ConvergenceError(res.message)

@@ -52,10 +52,10 @@ def loop_area(u, f) -> float:
     Raises
     ------
     ModelError
-        If u and f are not 1-D arrays of equal length >= 3.
+        If u and f are not 1-D arrays of equal length >= 3, or hold NaN or inf.
     """
-    u = np.asarray(u, dtype=float).ravel()
-    f = np.asarray(f, dtype=float).ravel()
+    u = as_finite_array("u", u).ravel()
+    f = as_finite_array("f", f).ravel()
     if u.shape != f.shape or u.size < 3:
         raise ModelError(f"u and f must be 1-D arrays of equal length >= 3, got {u.shape}, "
                          f"{f.shape}")

@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fricdamp.errors import ModelError
+from fricdamp.errors import ModelError, as_finite_array
 
 
 class LawStep(NamedTuple):
@@ -273,12 +273,12 @@ class ContactLaw(abc.ABC):
         ``u_history`` by finite differences with unit sample spacing, so pass it explicitly
         whenever the velocity matters.
         """
-        u = np.asarray(u_history, dtype=float)
+        u = as_finite_array("u_history", u_history)
         shape = u.shape
         u3 = self._as_history(u, "u_history")
         v3 = None
         if v_history is not None:
-            v3 = self._as_history(np.asarray(v_history, dtype=float), "v_history")
+            v3 = self._as_history(as_finite_array("v_history", v_history), "v_history")
             if v3.shape != u3.shape:
                 raise ModelError(
                     f"v_history must have the shape of u_history {shape}, got {np.shape(v_history)}"
@@ -312,16 +312,28 @@ class ContactLaw(abc.ABC):
 
 def broadcast_parameter(name: str, value, n_contacts: int | None, *, unit: str,
                         allow_zero: bool = False) -> np.ndarray:
-    """Per-contact parameter array, checked finite and positive, shape (n_contacts,)."""
-    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    """Per-contact parameter array, checked finite and positive, shape (n_contacts,).
+
+    The messages name the parameter, its unit and the allowed range, as the case file's
+    schema does for the same key (``Positive`` / ``NonNegative``)."""
+    rng = ">= 0" if allow_zero else "> 0"
+    u = f" {unit}" if unit else ""
+    if isinstance(value, (str, bytes)):
+        raise ModelError(f"{name} must be a number {rng}{u}, got {value!r}")
+    try:
+        arr = np.atleast_1d(np.asarray(value, dtype=float))
+    except (TypeError, ValueError):
+        raise ModelError(f"{name} must be a number {rng}{u} (or one per contact), got "
+                         f"{value!r}") from None
     if arr.ndim != 1:
         raise ModelError(f"{name} must be a scalar or a 1-D array, got shape {arr.shape}")
+    if arr.size == 0:
+        raise ModelError(f"{name} must be a number {rng}{u} or a non-empty list, got []")
     if not np.all(np.isfinite(arr)):
-        raise ModelError(f"{name} must be finite, got {value!r}")
+        raise ModelError(f"{name} must be finite (no NaN or inf), got {value!r}")
     bad = arr < 0 if allow_zero else arr <= 0
     if np.any(bad):
-        rng = ">= 0" if allow_zero else "> 0"
-        raise ModelError(f"{name} must be {rng} {unit}, got {value!r}")
+        raise ModelError(f"{name} must be {rng}{u}, got {value!r}")
     if n_contacts is not None and arr.size not in (1, n_contacts):
         raise ModelError(f"{name} must be a scalar or have {n_contacts} entries, got {arr.size}")
     return arr

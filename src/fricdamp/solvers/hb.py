@@ -136,6 +136,16 @@ def _initial_guess(s: _Setup, form, omega, initial_guess):
     return out
 
 
+def _check_size(system, harmonics, samples) -> None:
+    """Refuse (CheckError naming the parameter) a size that does not fit in memory."""
+    from fricdamp.limits import check_harmonics_memory
+
+    if isinstance(harmonics, int) and not isinstance(harmonics, bool) and harmonics >= 1 and (
+            samples is None or (isinstance(samples, int) and samples >= 1)):
+        rows = sum(c.n_contacts * c.n_dir for c in getattr(system, "contacts", ()))
+        check_harmonics_memory(harmonics, samples, int(getattr(system, "n_dof", 1)), rows)
+
+
 def _method_name(form) -> str:
     if isinstance(form, _Full):
         return "full-dense" if form.dense else "full-sparse"
@@ -192,6 +202,7 @@ def harmonic_balance(system: MechanicalSystem, omega: float, *, harmonics: int =
     """
     if not (np.isfinite(omega) and omega > 0):
         raise ModelError(f"omega must be > 0 rad/s, got {omega!r}")
+    _check_size(system, harmonics, samples)
     s = _Setup(system, harmonics, samples)
     with blas_threads(blas):
         form = _choose(s, method)
@@ -358,6 +369,7 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
     """Continue the HB solution in Omega (param "omega") or in the load scale ("load")."""
     if sorting not in ("eigenvector", "imaginary"):
         raise ModelError(f"sorting must be 'eigenvector' or 'imaginary', got {sorting!r}")
+    _check_size(system, harmonics, samples)
     s = _Setup(system, harmonics, samples)
     t0 = time.perf_counter()
     with blas_threads(blas):
