@@ -280,3 +280,99 @@ def _reduction_figures(rf, rr, r: dict) -> list:
     return [("reduction.png", "Probe displacement of the free attenuation on the full-order "
              "wheel (general solver) and on the Craig-Bampton wheel (compiled path), and "
              "their difference", fig)]
+
+
+# ------------------------------------------------------------------------------ issue 17
+def _orders_figures(emap: list, forces, content, obj, branch) -> list:
+    """Interference (ZZENF) diagram and the rig's force pattern decomposition."""
+    from fricdamp import plot
+
+    N = obj.n_blades
+    nds = np.arange(N // 2 + 1)
+    fig, axes = plot.new_figure(1, 2, width=12.0, height=4.6,
+                                title="Electromagnet excitation: engine orders and nodal "
+                                      "diameters (interference diagram)")
+    ax = axes[0, 0]
+    speeds = sorted({e.get("measured_rpm") or 0.0 for e in emap} - {0.0}) or [300.0]
+    for k, rpm in enumerate(speeds):
+        f = [branch(int(n), rpm) for n in nds]
+        ax.plot(nds, f, ".-", color=f"C{k}", label=f"first family at {rpm:g} rpm")
+    for e in emap:
+        rpm = e.get("measured_rpm")
+        if rpm is None:
+            continue
+        fe = e["harmonic"] * rpm / 60.0
+        ax.axhline(fe, color="0.5", ls=":", lw=0.8)
+        ax.plot(e["excited_nds"], [fe] * len(e["excited_nds"]), "o", mfc="none", color="k",
+                ms=5, label="excited NDs (synchronous pulses)" if e is emap[0] else None)
+        ax.plot([e["stationary_rule_nd"]], [fe], "x", color="tab:red", ms=8,
+                label="stationary rule ND = +-p o mod N" if e is emap[0] else None)
+        if e["nd"] is not None:
+            ax.plot([e["nd"]], [fe], "*", color="tab:green", ms=12,
+                    label="resonating ND (nearest crossing)" if e is emap[0] else None)
+        ax.annotate(f"o = {e['order']}: {e['harmonic']} x {rpm:g}/60 Hz", (0, fe),
+                    fontsize=7, xytext=(2, 3), textcoords="offset points")
+    ax.set_xlabel("nodal diameter")
+    ax.set_ylabel("frequency [Hz]")
+    ax.legend(fontsize="x-small", loc="lower right")
+    ax2 = axes[0, 1]
+    n_show = max(e["harmonic"] for e in emap) + 4
+    C = content[:n_show + 1]
+    folded = np.stack([np.maximum(C[:, k], C[:, (N - k) % N]) for k in nds], axis=1)
+    im = ax2.imshow(folded.T, origin="lower", aspect="auto", cmap="magma_r",
+                    extent=(-0.5, n_show + 0.5, -0.5, N // 2 + 0.5))
+    fig.colorbar(im, ax=ax2, label="|c(n, k)| per unit pull [N]")
+    ax2.set_xlabel("revolution harmonic n")
+    ax2.set_ylabel("nodal diameter k")
+    ax2.set_title("2D DFT of the blade forces over one revolution", fontsize="small")
+    return [("engine_orders.png", "Interference diagram: first-family frequencies by ND at "
+             "the measured critical speeds, the pulse frequencies p o n / 60, the NDs the "
+             "rotor-synchronous pulses excite (all even NDs), the stationary-pattern alias "
+             "and the resonating ND; right: the pattern's content by revolution harmonic and "
+             "ND", fig)]
+
+
+def _forced_figures(entries: list) -> list:
+    from fricdamp import plot
+
+    fig, axes = plot.new_figure(1, len(entries), width=5.5 * len(entries), height=4.2,
+                                title="Forced response around the critical speeds (cyclic "
+                                      "harmonic balance, one sector)")
+    for ax, e in zip(axes[0], entries, strict=True):
+        ax.plot(e["rpm"], 1e3 * np.asarray(e["amplitude_m"]), "k.-", ms=3)
+        ax.axvline(e["peak_rpm"], color="tab:red", ls="--", lw=0.8,
+                   label=f"peak {e['peak_rpm']:.1f} rpm")
+        ax.set_xlabel("speed [rpm]")
+        ax.set_ylabel("contact-node amplitude [mm]")
+        ax.set_title(f"{e['nd']}ND, o = {e['order']} ({e['force_N']:g} N per blade)",
+                     fontsize="small")
+        ax.legend(fontsize="small")
+    return [("forced_response.png", "Forced response of the travelling wave around each "
+             "critical speed: amplitude of blade 0's contact node along the flexural "
+             "direction vs speed, excitation p o times the rotation frequency", fig)]
+
+
+def _damping_amplitude_figures(entries: list) -> list:
+    from fricdamp import plot
+
+    fig, axes = plot.new_figure(width=7.5, height=4.6, title="Damping ratio vs amplitude "
+                                "(resonance energies, cyclic HB)")
+    ax = axes[0, 0]
+    for k, e in enumerate(entries):
+        col = f"C{k}"
+        ax.plot(1e3 * np.asarray(e["amplitude_m"]), 100 * np.asarray(e["damping_ratio"]),
+                "o-", color=col, label=f"{e['nd']}ND model")
+        if "paper_fem_damping_ratio" in e:
+            ax.plot([0.0, 1e3 * e["paper_fem_max_amplitude_m"]],
+                    [100 * e["paper_fem_damping_ratio"]] * 2, "--", color=col, lw=1.5,
+                    label=f"{e['nd']}ND 003 FEM log decrement (up to 0.5 mm)")
+            for a in e["paper_test_amplitudes_m"]:
+                ax.axvline(1e3 * a, color=col, ls=":", lw=0.8)
+    ax.set_xlabel("contact-node amplitude [mm] (dotted: 003 Table 2 test amplitudes)")
+    ax.set_ylabel("damping ratio [%]")
+    ax.set_xlim(left=0.0)
+    ax.set_ylim(bottom=0.0)
+    ax.legend(fontsize="small")
+    return [("damping_vs_amplitude.png", "Damping ratio of the resonant state vs amplitude "
+             "for each ND, with 003's FEM damping ratios and the amplitudes of its rotary "
+             "tests (Table 2)", fig)]

@@ -22,6 +22,16 @@ Summary contract (issue 7)::
     reduction: {"full_dof", "reduced_dof", "damping_ratio_difference", ...}
                                                      (top level, from reduction_comparison)
 
+Issue 17 (the rig test, :mod:`fricdamp.analyses._tieboss_forced`)::
+
+    engine_order_map: [{"order", "nd", "rule", "excited_nds", ...}]   (excitation_orders)
+    forced_response: [{"nd": 2, "order": 1, "rpm", "frequency_hz", "amplitude_m",
+                       "dissipated_energy_J", "energy_balance_error", "peak_rpm"}, ...]
+                                                     (cyclic_forced_response)
+    damping_vs_amplitude: [{"nd", "amplitude_m", "damping_ratio",
+                            "amplitude_definition"}, ...]            (damping_amplitude)
+    mistuning: {"scatter", "amplification_factor", ...}   (mistuned_forced_response)
+
 Summary sections are dicts, so the lists ``decay`` and ``critical_speeds_rpm`` and the dict
 ``reduction`` are written at the top level (:attr:`fricdamp.runner.AnalysisOutput.top_level`)
 by analyses with other names, whose own sections hold their key numbers. The keys are
@@ -84,8 +94,10 @@ __all__ = [
 
 #: The model type and the analyses of this module (used in messages).
 MODEL_TYPE = "tieboss_wheel"
-_ANALYSES = ("[analysis.modal], [analysis.campbell_by_nd], [analysis.free_attenuation] and "
-             "[analysis.reduction_comparison]")
+_ANALYSES = ("[analysis.modal], [analysis.campbell_by_nd], [analysis.free_attenuation], "
+             "[analysis.reduction_comparison], [analysis.excitation_orders], "
+             "[analysis.cyclic_forced_response], [analysis.damping_amplitude] and "
+             "[analysis.mistuned_forced_response]")
 
 NodalDiameter = Annotated[int, Field(ge=0, le=1000)]
 Pair = Annotated[list[Annotated[int, Field(ge=0, le=1000)]], Field(min_length=2, max_length=2)]
@@ -607,3 +619,7 @@ register_analysis("free_attenuation", FreeAttenuationAnalysis, run_free_attenuat
 register_analysis("reduction_comparison", ReductionComparisonAnalysis,
                   run_reduction_comparison, check=_check_reduction,
                   description="full-order vs Craig-Bampton free attenuation")
+
+# issue 17: the rig test (excitation orders, cyclic forced response, zeta(A), mistuning);
+# imported here so that the runner's import of this module registers them
+from fricdamp.analyses import _tieboss_forced  # noqa: E402, F401
