@@ -37,7 +37,39 @@ pre { background: #f6f8fa; border: 1px solid #e3e6ea; padding: 0.8rem; overflow-
       font-size: 0.85rem; }
 .note { background: #fff7e0; border-left: 4px solid #e0a800; padding: 0.4rem 0.8rem; }
 .small { font-size: 0.85rem; color: #566; }
+.verdict { font-size: 1.1rem; padding: 0.5rem 0.9rem; border-left: 6px solid; margin: 0.8rem 0; }
+.verdict-ok { background: #e9f7ee; border-color: #2e8b57; }
+.verdict-unreliable { background: #fff4e0; border-color: #e08a00; }
+.verdict-failed { background: #fde8e8; border-color: #c62828; }
 """
+
+#: What each overall verdict means, and the exit code of ``fricdamp run``.
+_VERDICT_TEXT = {
+    "ok": "ok: every error estimate is within its limit (exit code 0)",
+    "unreliable": "unreliable: computed, but an error estimate exceeds its limit; do not use "
+                  "the numbers below without reading the reasons (exit code 3)",
+    "failed": "failed: a solver did not finish what was asked; the numbers below are what "
+              "was computed before it stopped (exit code 1)",
+}
+
+
+def _verdict_html(verdict: Mapping) -> str:
+    """The verdict block at the top of the report: overall, then one row per analysis."""
+    overall = str(verdict.get("overall", "ok"))
+    out = [f'<p class="verdict verdict-{_esc(overall)}"><strong>Verdict: '
+           f"{_esc(_VERDICT_TEXT.get(overall, overall))}</strong></p>"]
+    rows = []
+    for name, v in verdict.get("analyses", {}).items():
+        reasons = "; ".join(v.get("reasons", [])) or "—"
+        est = ", ".join(f"{label(k)} {_num(x)}" for k, x in v.get("estimates", {}).items()
+                        if _is_num(x) and x is not None)
+        rows.append(f"<tr><td>{_esc(name)}</td><td>{_esc(v.get('verdict'))}</td>"
+                    f"<td>{_esc(reasons)}</td><td class=\"small\">{_esc(est)}</td></tr>")
+    if rows:
+        out.append("<table><tr><th>analysis</th><th>verdict</th><th>reasons</th>"
+                   "<th>error estimates</th></tr>" + "".join(rows) + "</table>")
+    return "\n".join(out)
+
 
 _MAX_ROWS = 15
 _INLINE = 8
@@ -185,7 +217,8 @@ def render_report(*, summary: Mapping, case_text: str,
     ----------
     summary : mapping
         The run summary (as written to summary.json): ``fricdamp_version``, ``case``,
-        ``runtime_s``, ``model``, one section per analysis, optional ``notes`` and ``files``.
+        ``runtime_s``, ``model``, ``verdict`` (shown first), one section per analysis,
+        optional ``notes`` and ``files``.
     case_text : str
         The case file's TOML text, shown verbatim.
     figures : mapping analysis name -> list of (PNG file name, caption)
@@ -203,6 +236,8 @@ def render_report(*, summary: Mapping, case_text: str,
         f"<style>{_CSS}</style></head><body>",
         f"<h1>fricdamp report: {_esc(name)}</h1>",
     ]
+    if isinstance(summary.get("verdict"), Mapping):   # the verdict comes first
+        parts.append(_verdict_html(summary["verdict"]))
     if case.get("description"):
         parts.append(f"<p>{_esc(case['description'])}</p>")
     meta = [f"fricdamp {_esc(summary.get('fricdamp_version', '?'))}"]
