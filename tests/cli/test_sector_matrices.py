@@ -78,6 +78,20 @@ def exported(tmp_path_factory):
     scipy.io.mmwrite(str(d / "Mpart.mtx"), solid.M[keep[part]][:, keep[part]].tocoo(),
                      symmetry="symmetric")
     np.savetxt(d / "dofs_part.txt", ref[part], fmt="%d")
+    # rotation matrices at 300 rpm, as an FE program gives them (fricdamp's own, exported)
+    from fricdamp.models.contact_wheel import sector_from_solid
+    from fricdamp.models.solid_campbell import rotation_terms
+
+    ws = sector_from_solid(solid, n_sectors=30, youngs_modulus=2.1e11,
+                           probe_direction=[0, 1, 1])
+    rot = rotation_terms(ws, solid)
+    pos = np.full(solid.n_dof, -1)
+    pos[ws.solid_dofs] = np.arange(ws.solid_dofs.size)
+    w2 = (300 * np.pi / 30) ** 2
+    for key in ("stress_stiffening", "spin_softening"):
+        A = w2 * getattr(rot, key)
+        scipy.io.mmwrite(str(d / f"{key}.mtx"), A[pos[keep]][:, pos[keep]].tocoo(),
+                         symmetry="symmetric")
     return d, solid
 
 
@@ -139,6 +153,8 @@ BAD = [
     ("full_and_mtx", ('mass = "M.mtx"\n', 'mass = "M.mtx"\nfull = "sector.full"\n'),
      ["give either full"]),
     ("missing_file", ('"K.mtx"', '"nothing.mtx"'), ["[model] stiffness", "no such file"]),
+    ("rotation_without_speed", ('mass = "M.mtx"\n', 'mass = "M.mtx"\nspin_softening = "M.mtx"\n'),
+     ["rotation_reference_rpm go together"]),
 ]
 
 
@@ -153,3 +169,32 @@ def test_bad_matrix_input_exits_2(cli, exported, old, new, expected):
     assert err.count("\n") == 1 and "Traceback" not in err
     for e in expected:
         assert e in err, (e, err)
+
+
+def test_the_fe_programs_rotation_matrices_give_the_same_campbell(cli, exported):
+    """stress_stiffening / spin_softening files at 300 rpm (the matrices fricdamp computes
+    itself, exported in the FE program's order) give the Campbell diagram and critical speeds
+    of fricdamp's own rotation terms (1e-8: the same matrices scaled by (n / 300)^2)."""
+    from fricdamp.models.contact_wheel import sector_from_solid
+    from fricdamp.models.solid_campbell import (
+        campbell_solid,
+        critical_speeds_solid,
+        rotation_terms,
+    )
+
+    d, solid = exported
+    files = CASE.replace('dof_reference = "dofs.txt"\n', 'dof_reference = "dofs.txt"\n'
+                         'stress_stiffening = "stress_stiffening.mtx"\n'
+                         'spin_softening = "spin_softening.mtx"\n'
+                         'rotation_reference_rpm = 300.0\n')
+    files += "\n[analysis.campbell_by_nd]\nn_speeds = 3\n"
+    theirs = _run(cli, d, files, "rot_files")
+    ws = sector_from_solid(solid, n_sectors=30, youngs_modulus=2.1e11,
+                           probe_direction=[0, 1, 1])
+    rot = rotation_terms(ws, solid)
+    own = campbell_solid(ws, rot, theirs["campbell_by_nd"]["rpm"])
+    np.testing.assert_allclose(theirs["campbell_by_nd"]["frequency_hz"], own.frequency_hz.T,
+                               rtol=1e-8)
+    crit = critical_speeds_solid(ws, rot, orders=[(1, 2), (3, 6)])
+    for a, b in zip(theirs["critical_speeds_rpm"], crit, strict=True):
+        assert a["rpm"] == pytest.approx(b["rpm"], rel=1e-8)

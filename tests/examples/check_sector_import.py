@@ -7,6 +7,8 @@ References computed here, independently of the case's analyses:
 * the open-contact first family rises with the nodal diameter from 2ND on (the disk's
   out-of-plane stiffness grows with ND; the blades' own frequency bounds it);
 * the prestress of every tie-boss is the requested 2.4 N;
+* the Campbell diagram from the mesh's own rotation terms: the blades stiffen with speed,
+  and each critical speed solves f = p o n / 60 with a Ritz error below 1e-6;
 * friction damps far more than the 0.1 % of the material, and the contact node pairs are
   open, stuck or slipping at every instant (fractions sum to one).
 """
@@ -39,3 +41,8 @@ def check(summary: dict, case: dict) -> None:
     fr = e["state_fractions"]
     assert fr["open"] + fr["stick"] + fr["slip"] == pytest.approx(1.0)
     assert fr["slip"] > 0
+    camp = summary["campbell_by_nd"]
+    assert camp["ritz_error"] < 1e-6
+    assert np.all(np.asarray(camp["frequency_change_hz"]) > 0)
+    for c in summary["critical_speeds_rpm"]:
+        assert c["frequency_hz"] == pytest.approx(8 * c["order"] * c["rpm"] / 60, rel=1e-8)

@@ -153,6 +153,14 @@ class CyclicSectorSpec(_PipelineSpec):
     dof_reference: str | None = Field(None, min_length=1, description="text file: node "
                                       "number (1-based mesh point) and component (0 UX, "
                                       "1 UY, 2 UZ) of each matrix row")
+    stress_stiffening: str | None = Field(None, min_length=1, description="Matrix Market "
+                                          "file: the FE program's stress-stiffening matrix "
+                                          "at rotation_reference_rpm [N/m]")
+    spin_softening: str | None = Field(None, min_length=1, description="Matrix Market file: "
+                                       "the spin-softening matrix at rotation_reference_rpm "
+                                       "[N/m] (positive: it is subtracted)")
+    rotation_reference_rpm: Positive | None = Field(None, le=1e6, description="speed at which "
+                                                    "the two rotation matrices were made")
 
     @model_validator(mode="after")
     def _check_dir(self):
@@ -164,9 +172,14 @@ class CyclicSectorSpec(_PipelineSpec):
         if self.full is not None and self.stiffness is not None:
             raise ValueError("give either full (an ANSYS .full file) or stiffness and mass "
                              "(Matrix Market files), not both")
-        if self.dof_reference is not None and self.stiffness is None:
+        if self.dof_reference is not None and self.stiffness is None and \
+                self.stress_stiffening is None and self.spin_softening is None:
             raise ValueError("dof_reference maps Matrix Market rows to mesh nodes: it needs "
-                             "stiffness and mass")
+                             "stiffness and mass (or rotation matrices)")
+        given = self.stress_stiffening is not None or self.spin_softening is not None
+        if given != (self.rotation_reference_rpm is not None):
+            raise ValueError("stress_stiffening/spin_softening and rotation_reference_rpm go "
+                             "together: the matrices scale with (speed / reference)^2")
         return self
 
 
@@ -329,8 +342,41 @@ def build_cyclic_sector_case(spec: CyclicSectorSpec, ctx: BuildContext) -> Solid
         axis=spec.axis, clamp=spec.clamp, cut_left=spec.cut_left, cut_right=spec.cut_right,
         contact_left=spec.contact_left, contact_right=spec.contact_right, probe=spec.probe,
         load=spec.load, info=info)
-    return SolidWheelCaseModel(ws, _settings(spec), spec.n_modes, spec.n_interface_modes,
-                               solid=solid, paper=False, kind="cyclic_sector")
+    model = SolidWheelCaseModel(ws, _settings(spec), spec.n_modes, spec.n_interface_modes,
+                                solid=solid, paper=False, kind="cyclic_sector")
+    if spec.rotation_reference_rpm is not None:
+        model._cache["rotation"] = _user_rotation(spec, ctx, solid, ws)
+    return model
+
+
+def _user_rotation(spec: CyclicSectorSpec, ctx: BuildContext, solid, ws):
+    """The FE program's rotation matrices, per Omega^2 on the sector's DOFs."""
+    from fricdamp.structure.io import matrix_on_mesh
+    from fricdamp.structure.system import RotationTerms
+
+    ref = None
+    if spec.dof_reference is not None:
+        ref = Path(spec.dof_reference)
+        ref = ref if ref.is_absolute() else Path(ctx.base_dir) / ref
+    scale = (spec.rotation_reference_rpm * np.pi / 30.0) ** -2
+    out = {}
+    for key in ("stress_stiffening", "spin_softening"):
+        value = getattr(spec, key)
+        if value is None:
+            continue
+        q = Path(value)
+        q = q if q.is_absolute() else Path(ctx.base_dir) / q
+        if not q.is_file():
+            raise CaseError(f"[model] {key} = {value!r}: no such file ({q})")
+        try:
+            A = matrix_on_mesh(solid, q, dof_reference=ref, name=key)
+        except ModelError as exc:
+            raise CaseError(f"[model] {key}: {exc}") from exc
+        d = ws.solid_dofs
+        out[key] = (scale * A[d][:, d]).tocsr()
+    zero = 0 * ws.cyclic.K
+    return RotationTerms(stress_stiffening=out.get("stress_stiffening", zero),
+                         spin_softening=out.get("spin_softening", zero))
 
 
 def is_solid(model) -> bool:

@@ -416,3 +416,35 @@ def solid_with_matrices(solid, *, K=None, M=None, full=None, dof_reference=None,
     K_new = (Pm @ K @ Pm.T + pad).tocsr()
     M_new = (Pm @ M @ Pm.T + pad).tocsr()
     return replace(solid, K=K_new, M=M_new, parts={})
+
+
+def matrix_on_mesh(solid, A, *, dof_reference=None, name: str = "matrix") -> sp.csr_matrix:
+    """A further matrix of the FE program (e.g. stress stiffening or spin softening) mapped
+    onto the DOFs of ``solid`` like :func:`solid_with_matrices` maps K and M: rows by
+    ``dof_reference`` (node number = 1-based mesh point, component 0-2), or in fricdamp's
+    order without it; absent DOFs get zero rows and columns.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix, shape (solid.n_dof, solid.n_dof)
+    """
+    A = sp.csr_matrix(_complete_triangle(read_matrix(A, name), name), dtype=float)
+    n = A.shape[0]
+    if A.shape != (n, n):
+        raise ModelError(f"{name} must be a square matrix, got shape {A.shape}")
+    ref = _dof_reference(dof_reference, n)
+    if ref is None:
+        if n != solid.n_dof:
+            raise ModelError(f"{name} has {n} rows but the mesh has {solid.n_dof} DOFs; give a "
+                             "dof_reference")
+        return A
+    if np.any((ref[:, 1] < 0) | (ref[:, 1] > 2)) or ref[:, 0].min() < 1 or \
+            ref[:, 0].max() > solid.point_nodes.size:
+        raise ModelError(f"{name}: dof_reference must hold mesh nodes 1..{solid.point_nodes.size}"
+                         " and components 0-2")
+    fe = solid.point_nodes[ref[:, 0] - 1]
+    if np.any(fe < 0):
+        raise ModelError(f"{name}: dof_reference names a node outside the volume elements")
+    target = 3 * fe + ref[:, 1]
+    Pm = sp.csr_matrix((np.ones(n), (target, np.arange(n))), shape=(solid.n_dof, n))
+    return (Pm @ A @ Pm.T).tocsr()
