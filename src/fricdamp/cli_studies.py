@@ -28,8 +28,11 @@ Written into ``--out DIR``: ``points/`` (one file per finished point, reused by 
 interrupted study resumes where it stopped), ``sweep.nc``, ``summary.json``, one PNG per result
 that varies, ``report.html`` and ``report.md`` (sweep); ``optimum.json``, ``history.nc``,
 ``history.csv`` and figures (optimize). Exit codes: 0 every point succeeded, 1 some points
-failed (results still written) or the study could not run, 2 invalid input, 130 interrupted
-(rerun the same command).
+failed (results still written) or the study could not run (no Dask worker alive, scheduler
+lost: the finished points are stored, the lost ones are not), 2 invalid input (a bad
+``--scheduler`` address included), 3 every point computed but some are unreliable (their
+``<analysis>__verdict`` result is 1), 130 interrupted (rerun the same command). A lock file
+keeps two studies out of one folder; Dask's own messages go to ``dask.log`` there.
 """
 
 from __future__ import annotations
@@ -53,7 +56,7 @@ from fricdamp.errors import CaseError
 __all__ = ["CasePoint", "add_subparsers", "handle_optimize", "handle_sweep", "load_study_case",
            "main"]
 
-EXIT_OK, EXIT_FAILURE, EXIT_INVALID, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_FAILURE, EXIT_INVALID, EXIT_UNRELIABLE, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
 #: Top-level tables of a case file that belong to the study, not to the case schema.
 STUDY_TABLES = ("sweep", "optimize")
@@ -155,6 +158,9 @@ class CasePoint:
         results: dict[str, float] = {}
         for name, out in compute_case(self.case(params)).outputs.items():
             _flatten(name, out.summary, results)
+            # the point's verdict: 0 ok, 1 unreliable, 2 failed (the study's exit code uses it)
+            status = out.verdict.status if out.verdict is not None else "ok"
+            results[f"{name}__verdict"] = float({"ok": 0, "unreliable": 1, "failed": 2}[status])
         return results
 
 
@@ -291,8 +297,12 @@ def _out_dir(args, point, command: str) -> Path:
 
 
 def _client_kwargs(args) -> dict:
+    from fricdamp.studies.cluster import check_scheduler_address
+
     if args.workers is not None and args.workers < 1:
         raise CaseError(f"--workers must be >= 1, got {args.workers}")
+    if args.scheduler is not None:
+        check_scheduler_address(args.scheduler)
     return {"client": args.scheduler, "serial": args.serial, "n_workers": args.workers}
 
 
@@ -314,23 +324,77 @@ def _check_points(point: CasePoint, points) -> None:
             raise CaseError(f"at {where}: {exc}") from None
 
 
-def _run_guarded(fn, args):
-    """Run ``fn()``; turn the study's runtime problems into exit codes."""
+#: Log file of Dask's own messages in the output folder (never on the terminal).
+DASK_LOG = "dask.log"
+
+
+@contextlib.contextmanager
+def _dask_log(out: Path, verbose: bool):
+    """Send the ``distributed`` loggers to ``out/dask.log`` instead of stderr (a dead worker or
+    scheduler makes Dask log tracebacks; the command line says what happened in one line)."""
     import logging
 
+    if verbose:
+        yield
+        return
+    with contextlib.suppress(ImportError):
+        import distributed  # noqa: F401 - its import configures its loggers: do it first
+    logger = logging.getLogger("distributed")
+    try:
+        handler = logging.FileHandler(out / DASK_LOG, encoding="utf-8", delay=True)
+    except OSError:
+        handler = logging.NullHandler()
+    handler.setFormatter(logging.Formatter("%(asctime)s %(name)s %(levelname)s: %(message)s"))
+    saved = (logger.handlers[:], logger.propagate, logger.level)
+    # distributed's sub-loggers may carry their own stderr handlers: silence them too
+    subs = [logging.getLogger(n) for n in list(logging.root.manager.loggerDict)
+            if n.startswith("distributed.")]
+    sub_saved = [(lg, lg.handlers[:], lg.propagate) for lg in subs]
+    logger.handlers = [handler]
+    logger.propagate = False
+    logger.setLevel(logging.WARNING)
+    for lg in subs:
+        lg.handlers = []
+        lg.propagate = True
+    try:
+        yield
+    finally:
+        handler.close()
+        logger.handlers, logger.propagate, level = saved[0], saved[1], saved[2]
+        logger.setLevel(level)
+        for lg, hs, prop in sub_saved:
+            lg.handlers, lg.propagate = hs, prop
+
+
+def _run_guarded(fn, args, out: Path | None = None):
+    """Run ``fn()`` holding the output folder's lock; turn the study's runtime problems into
+    exit codes (one line each; Dask's messages go to ``dask.log`` in the folder)."""
+    import logging
+
+    from fricdamp.errors import OutputError
+    from fricdamp.iofiles import OutputLock
     from fricdamp.studies.sweep import StudyError
 
-    if not args.serial and not args.verbose:  # Dask's INFO chatter is not for the terminal
+    if not args.serial and not args.verbose and out is None:
         with contextlib.suppress(ImportError):
             import distributed  # noqa: F401 - its import configures its loggers: do it first
         logging.getLogger("distributed").setLevel(logging.ERROR)
+    lock = OutputLock(out, args.command or "study") if out is not None else None
     try:
-        with _sigterm_as_interrupt():
+        with contextlib.ExitStack() as stack:
+            if lock is not None:
+                stack.enter_context(lock)
+                if not args.serial:
+                    stack.enter_context(_dask_log(out, args.verbose))
+            stack.enter_context(_sigterm_as_interrupt())
             return fn()
     except ImportError as exc:
         _err(str(exc))
         return EXIT_FAILURE
     except StudyError as exc:
+        _err(str(exc))
+        return EXIT_FAILURE
+    except OutputError as exc:
         _err(str(exc))
         return EXIT_FAILURE
 
@@ -382,7 +446,7 @@ def _write_html_report(out: Path, summary: dict, point: CasePoint, dims) -> None
 
 def handle_sweep(args) -> int:
     """``fricdamp sweep``: run the case over the grid; return the exit code."""
-    from fricdamp.iofiles import write_json
+    from fricdamp.iofiles import prepare_output_folder, write_json
     from fricdamp.studies.grid import Grid, resolve_parameter
     from fricdamp.studies.sweep import StudyInterrupted, save_sweep, sweep
 
@@ -405,7 +469,7 @@ def handle_sweep(args) -> int:
         _check_points(point, (dict(zip(grid.names, c, strict=True)) for c in
                               itertools.product(*((v.min(), v.max()) for _, v in grid.axes))))
     out = _out_dir(args, point, "sweep")
-    out.mkdir(parents=True, exist_ok=True)
+    prepare_output_folder(out)
     _out(f"fricdamp {__version__}: sweep of {args.case} over {grid.size} points "
          f"({' x '.join(f'{n} {len(v)}' for n, v in grid.axes)}) {_where(args)}")
     _out(f"points stored in {out / 'points'} (rerun the same command to resume)")
@@ -436,13 +500,25 @@ def handle_sweep(args) -> int:
         _out(f"wrote sweep.nc, summary.json, report.html, report.md and "
              f"{len(summary['files']['figures'])} figures to {out}")
         _out(f"report: {(out / 'report.html').resolve()}")
-        return EXIT_FAILURE if n_failed else EXIT_OK
+        if n_failed:
+            return EXIT_FAILURE
+        worst = max((float(ds[v].max()) for v in ds.data_vars if v.endswith("__verdict")),
+                    default=0.0)
+        if worst >= 2:
+            _err("verdict: failed at some points (the '<analysis>__verdict' result is 2)")
+            return EXIT_FAILURE
+        if worst >= 1:
+            _err("verdict: unreliable at some points (the '<analysis>__verdict' result is 1; "
+                 "run one of them with fricdamp run to see why)")
+            return EXIT_UNRELIABLE
+        return EXIT_OK
 
-    return _run_guarded(run, args)
+    return _run_guarded(run, args, out)
 
 
 def handle_optimize(args) -> int:
     """``fricdamp optimize``: search the bounds for the best value; return the exit code."""
+    from fricdamp.iofiles import prepare_output_folder
     from fricdamp.studies.grid import parse_bounds, resolve_parameter
     from fricdamp.studies.optimize import optimize, save_optimization
     from fricdamp.studies.sweep import StudyInterrupted
@@ -475,7 +551,7 @@ def handle_optimize(args) -> int:
             settings[k] = getattr(args, k)
     kwargs = _client_kwargs(args)
     out = _out_dir(args, point, "optimize")
-    out.mkdir(parents=True, exist_ok=True)
+    prepare_output_folder(out)
     sense, target = next(iter(goal.items()))
     _out(f"fricdamp {__version__}: {sense} {target} of {args.case} over "
          f"{', '.join(f'{n} in [{lo:g}, {hi:g}]' for n, (lo, hi) in bounds.items())} "
@@ -504,7 +580,7 @@ def handle_optimize(args) -> int:
              f"{len(summary['files']['figures'])} figures to {out}")
         return EXIT_OK if result.success else EXIT_FAILURE
 
-    return _run_guarded(run, args)
+    return _run_guarded(run, args, out)
 
 
 # ------------------------------------------------------------------------- standalone

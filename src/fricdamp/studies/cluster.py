@@ -20,7 +20,23 @@ from collections.abc import Iterator, Mapping
 
 from fricdamp.studies.points import StudyError
 
-__all__ = ["LOCAL_CLUSTER_CONFIG", "WORKER_ENV", "open_client"]
+__all__ = ["LOCAL_CLUSTER_CONFIG", "WORKER_ENV", "check_scheduler_address", "open_client"]
+
+
+def check_scheduler_address(address: str) -> str:
+    """``address`` must look like ``tcp://HOST:PORT`` (or tls://, ws://, inproc://, or
+    ``HOST:PORT``); raises :class:`~fricdamp.errors.CaseError` (bad input, exit code 2)."""
+    import re
+
+    from fricdamp.errors import CaseError
+
+    if not isinstance(address, str) or not re.fullmatch(
+            r"((tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):\d{1,5}"
+            r"|inproc://\S+", address.strip()):
+        raise CaseError(f"--scheduler {address!r} is not a scheduler address: give "
+                        "tcp://HOST:PORT (e.g. tcp://10.0.0.5:8786, as printed by "
+                        "'dask scheduler')")
+    return address.strip()
 
 #: Environment of local Dask workers: one BLAS / OpenMP / numba thread per single-threaded
 #: worker, so two workers on two cores do not fight over four BLAS threads. It is set before
@@ -115,9 +131,10 @@ def open_client(client=None, *, serial: bool = False, n_workers: int | None = No
         return
     distributed = _require_distributed()
     if isinstance(client, str):
+        check_scheduler_address(client)
         try:
             c = distributed.Client(client, timeout="10s")
-        except (OSError, TimeoutError) as exc:
+        except (OSError, TimeoutError, ValueError) as exc:
             raise StudyError(f"cannot reach the Dask scheduler at {client!r}: {exc}. Is it "
                              "running (dask scheduler) and is the address right?") from None
         try:

@@ -17,6 +17,7 @@ from fricdamp.studies.cluster import _ClientSlot
 from fricdamp.studies.points import (
     PointRecord,
     PointStore,
+    StudyError,
     StudyInterrupted,
     evaluate_point,
     point_key,
@@ -156,28 +157,101 @@ def run_points(fn: Callable, points: Sequence[Mapping], *, client=None,
     return out
 
 
+#: Seconds a study waits with no Dask worker alive before it gives up (the points finished
+#: before are stored; rerun to continue). Override with ``FRICDAMP_NO_WORKER_TIMEOUT``.
+NO_WORKER_TIMEOUT_S = 60.0
+
+
+def _no_worker_timeout() -> float:
+    import os
+
+    try:
+        return float(os.environ.get("FRICDAMP_NO_WORKER_TIMEOUT", NO_WORKER_TIMEOUT_S))
+    except ValueError:
+        return NO_WORKER_TIMEOUT_S
+
+
+def _n_workers(client) -> int:
+    """Workers the scheduler knows; raises StudyError if the scheduler cannot be asked."""
+    status = str(getattr(client, "status", "running"))
+    if status in ("closed", "closing", "failed"):
+        raise StudyError(f"lost the Dask scheduler (client {status})")
+    try:
+        info = client.scheduler_info()
+    except Exception as exc:  # noqa: BLE001 - any comm failure means the scheduler is gone
+        raise StudyError(f"lost the Dask scheduler ({type(exc).__name__}: {exc})") from None
+    return len(info.get("workers", {}))
+
+
 def _run_on_dask(client, fn, jobs, reserved, finish) -> None:
+    """Submit the jobs, store each finished point; infrastructure failures are not stored.
+
+    A point whose task was lost (its worker died, the scheduler went away, the task was
+    cancelled) is *not* a physics failure: it is not stored, so a rerun computes it. The
+    study then ends with :class:`StudyError` saying how many points were lost. With no worker
+    alive for :data:`NO_WORKER_TIMEOUT_S` seconds, or the scheduler gone, it ends the same way.
+    """
+    import time
+
     from distributed import as_completed
 
     if not jobs:
         return
     futures = {}
+    lost: list[str] = []
+    timeout = _no_worker_timeout()
     try:
-        for key, params in jobs:
-            fut = client.submit(evaluate_point, fn, key, params, tuple(reserved), pure=False)
-            futures[fut] = (key, params)
-        for fut in as_completed(list(futures)):
-            key, params = futures[fut]
-            try:
-                rec = fut.result()
-            except Exception as exc:  # the task itself was lost (worker died, cancelled...)
-                rec = PointRecord(key=key, params=params, status="failed",
-                                  error=f"{type(exc).__name__}: {exc}")
-            finish(rec)
-            fut.release()
+        try:
+            for key, params in jobs:
+                fut = client.submit(evaluate_point, fn, key, params, tuple(reserved),
+                                    pure=False)
+                futures[fut] = (key, params)
+            ac = as_completed(list(futures))
+            no_worker_since = None
+            last_check = 0.0
+            while not ac.is_empty():
+                batch = ac.next_batch(block=False)
+                if not batch:
+                    time.sleep(0.05)
+                    now = time.monotonic()
+                    if now - last_check < 1.0:
+                        continue
+                    last_check = now
+                    if _n_workers(client) == 0:
+                        no_worker_since = no_worker_since or now
+                        if now - no_worker_since > timeout:
+                            raise StudyError(
+                                f"no Dask worker has been alive for {timeout:g} s; start "
+                                "workers (dask worker SCHEDULER) or use --serial")
+                    else:
+                        no_worker_since = None
+                    continue
+                for fut in batch:
+                    key, params = futures[fut]
+                    try:
+                        rec = fut.result()
+                    except Exception as exc:  # noqa: BLE001 - the task was lost, not the point
+                        lost.append(f"{type(exc).__name__}: {exc}")
+                        log.warning("point %s lost on Dask (%s); not stored", params, exc)
+                        continue
+                    finish(rec)
+                    fut.release()
+        except StudyError:
+            raise
+        except (KeyboardInterrupt, StudyInterrupted):
+            raise
+        except Exception as exc:  # noqa: BLE001 - comm errors of a dead scheduler
+            raise StudyError(f"lost the Dask scheduler ({type(exc).__name__}: {exc})") from None
+    except StudyError as exc:
+        n_left = sum(1 for f in futures if not f.done()) + len(lost)
+        raise StudyError(f"{exc}: the finished points are stored, {n_left} point(s) were not "
+                         "computed and are not stored; rerun the same command to compute "
+                         "them") from None
     finally:
         pending = [f for f in futures if not f.done()]
         if pending:
             with contextlib.suppress(Exception):
                 client.cancel(pending)
-
+    if lost:
+        raise StudyError(f"{len(lost)} point(s) were lost on Dask (first: {lost[0]}): they are "
+                         "not stored as failures; rerun the same command to compute them")
