@@ -274,3 +274,21 @@ def test_sigterm_removes_temporary_files_and_says_what_was_kept(write_case, tmp_
     line = _one_line(err)
     assert line.startswith("fricdamp: error: interrupted:") and "nothing was written" in line
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_sweep_scheduler_notaurl_exits_2_in_one_line(cli, write_case, tmp_path):
+    code, stdout, err = cli("sweep", write_case(BASE_CASE), "--grid",
+                            "stiffness_N_per_m=1e4:2e4:2", "--scheduler", "notaurl",
+                            "--out", tmp_path / "sw")
+    assert code == 2
+    assert "--scheduler 'notaurl' is not a scheduler address" in _one_line(err)
+
+
+def test_second_sweep_into_a_locked_folder_is_refused(cli, write_case, tmp_path):
+    out = tmp_path / "sw"
+    out.mkdir()
+    (out / ".fricdamp.lock").write_text(f"{os.getppid()} sweep\n")
+    code, _, err = cli("sweep", write_case(BASE_CASE), "--grid", "stiffness_N_per_m=1e4:2e4:2",
+                       "--serial", "--out", out, "--no-progress")
+    assert code == 1 and "another fricdamp sweep" in _one_line(err)
+    assert not (out / "points").exists()

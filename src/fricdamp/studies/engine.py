@@ -231,7 +231,8 @@ def _run_on_dask(client, fn, jobs, reserved, finish) -> None:
                     try:
                         rec = fut.result()
                     except Exception as exc:  # noqa: BLE001 - the task was lost, not the point
-                        lost.append(f"{type(exc).__name__}: {exc}")
+                        text = f"{type(exc).__name__}: {exc}".splitlines()[0]
+                        lost.append(text if len(text) <= 160 else text[:157] + "...")
                         log.warning("point %s lost on Dask (%s); not stored", params, exc)
                         continue
                     finish(rec)
