@@ -278,9 +278,13 @@ def mistuned_amplification(wheel: TiebossWheel, nd: int, force_N: float, scatter
     """Amplification factor of a wheel with per-blade stiffness scatter, by full-wheel HB.
 
     Sector j's stiffness is ``(1 + s delta_j) K`` (``delta_j`` standard normal, fixed seed,
-    zero mean over the wheel), ``s`` each level of ``scatter``; the load is the forward
+    zero mean over the wheel), ``s`` each level of ``scatter``, with the Rayleigh damping
+    ``a M + b K`` of the mistuned stiffness (so the HB condenses through the mistuned modes;
+    the wheel must be small enough for a dense eigenproblem: Craig-Bampton sectors); the
+    load is the forward
     ``nd`` wave; the amplification factor is the largest peak amplitude of any blade's
-    probe over the tuned wheel's peak (the scatter level 0, computed the same way).
+    probe over the tuned wheel's peak (the scatter level 0: by cyclic HB with friction,
+    the same travelling-wave state as the full-wheel HB).
     ``friction=False``: the contacts are removed (open contacts, the linear wheel; its
     response is solved directly per frequency on a fine grid).
 
@@ -303,6 +307,7 @@ def mistuned_amplification(wheel: TiebossWheel, nd: int, force_N: float, scatter
     d = wheel.sector.flexural_direction
     lo, hi = (2 * np.pi * float(f) for f in frequency_range_hz)
     levels = [0.0] + [float(s) for s in scatter if float(s) != 0.0]
+    a_r, b_r = wheel.parameters.rayleigh()
     out = {"scatter": [], "peak_amplitude_m": [], "peak_frequency_hz": [],
            "blade_of_peak": [], "status": []}
     load = wheel_load(wheel, nd, force_N)
@@ -313,9 +318,22 @@ def mistuned_amplification(wheel: TiebossWheel, nd: int, force_N: float, scatter
         K = sum(((1.0 + s * delta[j]) * (T[j].T @ Ks @ T[j]) for j in range(N)),
                 sp.csr_matrix((wheel.n_dof, wheel.n_dof)))
         K = sp.csr_matrix(0.5 * (K + K.T))
-        sysm = replace(wheel.system, K=K.toarray() if not wheel.system.is_sparse else K,
+        # Rayleigh damping of the mistuned blades (b K follows each blade's stiffness), so
+        # the HB condenses through the mistuned modes
+        D = a_r * wheel.system.M + b_r * K
+        dense = not wheel.system.is_sparse
+        sysm = replace(wheel.system, K=K.toarray() if dense else K,
+                       D=_dense(D) if dense else sp.csr_matrix(D),
                        loads=(load,), contacts=wheel.system.contacts if friction else ())
-        if friction:
+        if friction and s == 0.0:
+            # the tuned wheel: its travelling-wave response by cyclic HB (the same states
+            # as the full-wheel HB, tests/validation/test_cyclic_hb.py), every blade alike
+            pb, _ = cyclic_problem(wheel.sector, nd, force_N=force_N, harmonics=harmonics,
+                                   samples=samples, wheel=wheel)
+            cr = cyclic_frequency_response(pb, lo, hi, step=step)
+            amp = cr.amplitude(np.asarray(cyc.named_dofs["probe"]), d)[:, None]
+            om, status = cr.omega, cr.status
+        elif friction:
             fr = frequency_response(sysm, lo, hi, harmonics=harmonics, samples=samples,
                                     step=step, max_step=20 * step)
             X = fr.coefficients[:, probes]                             # (n_p, N, 3, nh)
@@ -324,13 +342,11 @@ def mistuned_amplification(wheel: TiebossWheel, nd: int, force_N: float, scatter
             om = fr.omega
             status = fr.status
         else:
-            # linear wheel: modal superposition on a fine grid; the Rayleigh damping of the
-            # tuned wheel is diagonal in the mistuned modes up to b Phi^T dK Phi (~1 % of
-            # the modal damping at 3 % scatter), whose off-diagonal part is dropped
+            # linear wheel: modal superposition on a fine grid (Rayleigh: diagonal)
             import scipy.linalg as sla
 
             lam, Phi = sla.eigh(_dense(K), _dense(wheel.system.M))
-            c = np.einsum("ij,ij->j", Phi, _dense(wheel.system.D) @ Phi)
+            c = a_r + b_r * lam
             g = Phi.T @ load.amplitude
             Pp = np.einsum("d,jdm->jm", d, Phi[probes])                 # (N, n_modes)
             om = np.linspace(lo, hi, 2000)
