@@ -149,7 +149,6 @@ class NewmarkScheme:
         ``T_h / T = x / arctan(x)`` with ``x = omega h / 2``, about ``(omega h)^2 / 12`` for
         small steps. HHT-alpha adds numerical damping and the same phase error to leading
         order."""
-        x = 0.5 * float(omega) * self.h
-        if x <= 0:
-            return 0.0
-        return float(x / np.arctan(x) - 1.0)
+        from fricdamp.verdict import newmark_period_error
+
+        return float(newmark_period_error(float(omega) * self.h))
