@@ -181,6 +181,31 @@ def _node_dofs(name: str, nodes: np.ndarray, ref: np.ndarray) -> tuple[np.ndarra
     return np.asarray(dofs, dtype=np.int64), comps
 
 
+def _read_km(K, M, full, dof_reference, who: str):
+    """``(M, K, ref)`` from Matrix Market paths/arrays or an ANSYS ``.full`` file (its DOF
+    reference then; otherwise None), checked square and of one size."""
+    if full is not None:
+        if M is not None or K is not None:
+            raise ModelError("give either full= (an ANSYS .full file) or M= and K=, not both")
+        M, K, ref = read_ansys_full(full)
+        if dof_reference is not None:
+            raise ModelError("dof_reference comes from the .full file; do not pass it too")
+    else:
+        if M is None or K is None:
+            raise ModelError(f"{who} needs M= and K= (Matrix Market paths or arrays) or "
+                             "full= (an ANSYS .full file)")
+        M = _complete_triangle(read_matrix(M, "M"), "M")
+        K = _complete_triangle(read_matrix(K, "K"), "K")
+        ref = None
+    for nm, A in (("M", M), ("K", K)):
+        if getattr(A, "ndim", 2) != 2 or A.shape[0] != A.shape[1]:
+            raise ModelError(f"{nm} must be a square matrix, got shape {A.shape}")
+    n = M.shape[0]
+    if K.shape != (n, n):
+        raise ModelError(f"K must be {n} x {n} like M, got {K.shape}")
+    return M, K, ref
+
+
 def read_sector(M=None, K=None, *, n_sectors: int, D=None, full=None, left_dofs=None,
                 right_dofs=None, left_nodes=None, right_nodes=None,
                 named_nodes: Mapping[str, Sequence[int]] | None = None,
@@ -234,25 +259,8 @@ def read_sector(M=None, K=None, *, n_sectors: int, D=None, full=None, left_dofs=
     """
     from fricdamp.structure.cyclic import CyclicSector
 
-    if full is not None:
-        if M is not None or K is not None:
-            raise ModelError("give either full= (an ANSYS .full file) or M= and K=, not both")
-        M, K, ref = read_ansys_full(full)
-        if dof_reference is not None:
-            raise ModelError("dof_reference comes from the .full file; do not pass it too")
-    else:
-        if M is None or K is None:
-            raise ModelError("read_sector needs M= and K= (Matrix Market paths or arrays) or "
-                             "full= (an ANSYS .full file)")
-        M = _complete_triangle(read_matrix(M, "M"), "M")
-        K = _complete_triangle(read_matrix(K, "K"), "K")
-        ref = None
-    for nm, A in (("M", M), ("K", K)):
-        if getattr(A, "ndim", 2) != 2 or A.shape[0] != A.shape[1]:
-            raise ModelError(f"{nm} must be a square matrix, got shape {A.shape}")
+    M, K, ref = _read_km(K, M, full, dof_reference, "read_sector")
     n = M.shape[0]
-    if K.shape != (n, n):
-        raise ModelError(f"K must be {n} x {n} like M, got {K.shape}")
     if D is not None:
         D = _complete_triangle(read_matrix(D, "D"), "D")
         if D.shape != (n, n):
@@ -352,49 +360,11 @@ def solid_with_matrices(solid, *, K=None, M=None, full=None, dof_reference=None,
     """
     from dataclasses import replace
 
-    if full is not None:
-        if K is not None or M is not None:
-            raise ModelError("give either full= (an ANSYS .full file) or K= and M=, not both")
-        M, K, ref = read_ansys_full(full)
-        if dof_reference is not None:
-            raise ModelError("dof_reference comes from the .full file; do not pass it too")
-    else:
-        if K is None or M is None:
-            raise ModelError("matrix import needs both stiffness (K) and mass (M) files, or "
-                             "an ANSYS .full file")
-        K = sp.csr_matrix(_complete_triangle(read_matrix(K, "stiffness"), "stiffness"))
-        M = sp.csr_matrix(_complete_triangle(read_matrix(M, "mass"), "mass"))
-        ref = None
+    M, K, ref = _read_km(K, M, full, dof_reference, "matrix import")
+    K, M = sp.csr_matrix(K, dtype=float), sp.csr_matrix(M, dtype=float)
     n = K.shape[0]
-    if K.shape != (n, n) or M.shape != (n, n):
-        raise ModelError(f"stiffness and mass must be square and of one size, got {K.shape} "
-                         f"and {M.shape}")
-    if ref is None:
-        ref = _dof_reference(dof_reference, n)
-    if ref is None:
-        if n != solid.n_dof:
-            raise ModelError(f"the matrices have {n} rows but the mesh has {solid.n_dof} DOFs "
-                             f"(3 x {solid.n_nodes} nodes); give a dof_reference to map "
-                             "them (node number, component per row)")
-        target = np.arange(n)
-    else:
-        if np.any(ref[:, 1] > 2) or np.any(ref[:, 1] < 0):
-            bad = ref[(ref[:, 1] > 2) | (ref[:, 1] < 0)][0]
-            raise ModelError(f"dof_reference: component {int(bad[1])} of node {int(bad[0])} "
-                             f"is not a translation (0 UX, 1 UY, 2 UZ); solid sectors have "
-                             "no rotational DOFs")
-        pn = solid.point_nodes
-        n_pts = pn.size
-        nodes = ref[:, 0]
-        if nodes.min() < 1 or nodes.max() > n_pts:
-            raise ModelError(f"dof_reference: node numbers must lie in [1, {n_pts}] (1-based "
-                             f"positions of the mesh points), got {int(nodes.min())} to "
-                             f"{int(nodes.max())}")
-        fe = pn[nodes - 1]
-        if np.any(fe < 0):
-            raise ModelError(f"dof_reference: node {int(nodes[fe < 0][0])} is not a node of "
-                             "the mesh's volume elements")
-        target = 3 * fe + ref[:, 1]
+    target = _mesh_targets(solid, ref if ref is not None else dof_reference, n,
+                           "the matrices")
     present = np.zeros(solid.n_dof, dtype=bool)
     present[target] = True
     missing = np.flatnonzero(~present)
@@ -432,19 +402,37 @@ def matrix_on_mesh(solid, A, *, dof_reference=None, name: str = "matrix") -> sp.
     n = A.shape[0]
     if A.shape != (n, n):
         raise ModelError(f"{name} must be a square matrix, got shape {A.shape}")
-    ref = _dof_reference(dof_reference, n)
-    if ref is None:
-        if n != solid.n_dof:
-            raise ModelError(f"{name} has {n} rows but the mesh has {solid.n_dof} DOFs; give a "
-                             "dof_reference")
-        return A
-    if np.any((ref[:, 1] < 0) | (ref[:, 1] > 2)) or ref[:, 0].min() < 1 or \
-            ref[:, 0].max() > solid.point_nodes.size:
-        raise ModelError(f"{name}: dof_reference must hold mesh nodes 1..{solid.point_nodes.size}"
-                         " and components 0-2")
-    fe = solid.point_nodes[ref[:, 0] - 1]
-    if np.any(fe < 0):
-        raise ModelError(f"{name}: dof_reference names a node outside the volume elements")
-    target = 3 * fe + ref[:, 1]
+    target = _mesh_targets(solid, dof_reference, n, name)
     Pm = sp.csr_matrix((np.ones(n), (target, np.arange(n))), shape=(solid.n_dof, n))
     return (Pm @ A @ Pm.T).tocsr()
+
+
+def _mesh_targets(solid, dof_reference, n: int, name: str) -> np.ndarray:
+    """DOF of ``solid`` of each of ``n`` matrix rows: by the (node, component) reference
+    (node = 1-based mesh point, component 0-2), or fricdamp's own order without one."""
+    ref = dof_reference if isinstance(dof_reference, np.ndarray) and \
+        dof_reference.dtype.kind == "i" and dof_reference.shape == (n, 2) else \
+        _dof_reference(dof_reference, n)
+    if ref is None:
+        if n != solid.n_dof:
+            raise ModelError(f"{name} have {n} rows but the mesh has {solid.n_dof} DOFs "
+                             f"(3 x {solid.n_nodes} nodes); give a dof_reference to map "
+                             "them (node number, component per row)")
+        return np.arange(n)
+    bad = (ref[:, 1] > 2) | (ref[:, 1] < 0)
+    if np.any(bad):
+        node, comp = ref[bad][0]
+        raise ModelError(f"dof_reference: component {int(comp)} of node {int(node)} is not a "
+                         "translation (0 UX, 1 UY, 2 UZ); solid sectors have no rotational "
+                         "DOFs")
+    n_pts = solid.point_nodes.size
+    nodes = ref[:, 0]
+    if nodes.min() < 1 or nodes.max() > n_pts:
+        raise ModelError(f"dof_reference: node numbers must lie in [1, {n_pts}] (1-based "
+                         f"positions of the mesh points), got {int(nodes.min())} to "
+                         f"{int(nodes.max())}")
+    fe = solid.point_nodes[nodes - 1]
+    if np.any(fe < 0):
+        raise ModelError(f"dof_reference: node {int(nodes[fe < 0][0])} is not a node of the "
+                         "mesh's volume elements")
+    return 3 * fe + ref[:, 1]
