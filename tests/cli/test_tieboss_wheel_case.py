@@ -239,3 +239,86 @@ def test_solver_settings_that_are_not_used_give_notes(cli, write_case, tmp_path)
     assert "alpha = -0.1 is not used" in notes and "tol and max_iter are not used" in notes
     assert "too few envelope peaks" in notes               # 0.01 s: half a period
     assert s["decay"][0]["method"] == "hht" and s["decay"][0]["damping_ratio"] is None
+
+
+#: Issue 17, small: the rig-test analyses on a coarse setting (one order, a narrow sweep,
+#: two load levels per ND, one scatter level, H = 1 for the full-wheel HB).
+RIG_CASE = """\
+name = "tieboss_rig_small"
+
+[model]
+type = "tieboss_wheel"
+
+[analysis.excitation_orders]
+orders = [1, 3]
+pulse_width_deg = 10.0
+
+[analysis.cyclic_forced_response]
+pairs = [[3, 6]]
+force_N = 2.0
+frequency_range_hz = [48.0, 50.0]
+harmonics = 3
+
+[analysis.damping_amplitude]
+nodal_diameters = [6]
+orders = [3]
+force_levels_N = [[2.0, 3.0]]
+frequency_range_hz = [48.0, 50.0]
+harmonics = 3
+
+[analysis.mistuned_forced_response]
+nodal_diameter = 6
+scatter = [0.02]
+frequency_range_hz = [48.6, 49.6]
+harmonics = 1
+samples = 30
+"""
+
+
+def test_rig_test_run_honours_the_contract(cli, write_case, tmp_path):
+    """Issue 17: engine_order_map, forced_response, damping_vs_amplitude and mistuning at the
+    top level with their keys; figures and headlines."""
+    out = tmp_path / "out"
+    code, stdout, err = cli("run", write_case(RIG_CASE), "--out", out)
+    assert code == 0, err
+    s = json.loads((out / "summary.json").read_text())
+    emap = s["engine_order_map"]
+    assert [e["order"] for e in emap] == [1, 3] and [e["nd"] for e in emap] == [2, 6]
+    assert all({"order", "nd", "rule"} <= set(e) for e in emap)
+    (fr,) = s["forced_response"]
+    assert (fr["nd"], fr["order"]) == (6, 3)
+    for key in ("rpm", "frequency_hz", "amplitude_m", "dissipated_energy_J"):
+        assert len(fr[key]) == fr["n_points"] > 3, key
+    assert fr["energy_balance_error"] < 1e-6 and 110 < fr["peak_rpm"] < 130
+    (dva,) = s["damping_vs_amplitude"]
+    assert dva["nd"] == 6 and len(dva["amplitude_m"]) == len(dva["damping_ratio"]) == 2
+    assert dva["damping_ratio"][0] > dva["damping_ratio"][1]       # falls with amplitude
+    assert "contact node" in dva["amplitude_definition"]
+    mis = s["mistuning"]
+    assert mis["scatter"] == [0.0, 0.02] and mis["amplification_factor"][0] == 1.0
+    assert len(mis["amplification_factor_no_friction"]) == 2
+    assert {"engine_orders.png", "forced_response.png", "damping_vs_amplitude.png"} <= set(
+        s["files"]["figures"])
+    assert "excitation_orders: o = 1 (n = 8): 2ND" in stdout
+    assert "cyclic_forced_response: 6ND o = 3: peak" in stdout
+
+
+@pytest.mark.parametrize("name", ["excitation_orders", "cyclic_forced_response",
+                                  "damping_amplitude", "mistuned_forced_response"])
+def test_rig_analyses_need_the_tieboss_model(assert_rejected, base_case, name):
+    assert_rejected(base_case + f"\n[analysis.{name}]\n",
+                    [f"[analysis.{name}] needs [model] type = 'tieboss_wheel'"])
+
+
+@pytest.mark.parametrize("old_new, expected", [
+    (("frequency_range_hz = [48.0, 50.0]\nharmonics = 3\n\n[analysis.damping",
+      "frequency_range_hz = [50.0, 48.0]\nharmonics = 3\n\n[analysis.damping"),
+     ["[analysis.cyclic_forced_response]", "low < high"]),
+    (("pairs = [[3, 6]]", "pairs = [[3, 16]]"), ["ND 16 does not exist", "0 to 15"]),
+    (("force_levels_N = [[2.0, 3.0]]", "force_levels_N = [[2.0], [3.0]]"),
+     ["force_levels_N needs one list per ND"]),
+    (("orders = [1, 3]\npulse", "orders = [1, 3]\npairs = [[0, 9]]\npulse"),
+     ["pairs hold magnets 0..7"]),
+])
+def test_rig_bad_input_exits_2(assert_rejected, old_new, expected):
+    assert_rejected(replace_once(RIG_CASE, *old_new), expected)
