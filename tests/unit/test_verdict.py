@@ -164,3 +164,49 @@ def test_harmonic_balance_refuses_a_billion_harmonics_before_allocating():
                          loads=(HarmonicLoad([0.1], omega=1.0),))
     with pytest.raises(CheckError, match="harmonics = 1000000000"):
         harmonic_balance(s, 1.2, harmonics=10**9)
+
+
+# ------------------------------------------------------------------ harmonic balance
+def _duffing():
+    from fricdamp.contact import CubicSpring
+    from fricdamp.structure import ContactElement, HarmonicLoad, MechanicalSystem
+
+    return MechanicalSystem(M=[[1.0]], K=[[1.0]], D=[[0.02]],
+                            contacts=(ContactElement(CubicSpring(0.5), [[1.0]]),),
+                            loads=(HarmonicLoad([0.03], omega=1.0),))
+
+
+def test_frequency_response_verdict_follows_its_status():
+    """A continuation stopped by max_points is failed and its largest amplitude, at the end
+    of the computed curve, is truncated; the complete curve is ok with an interior peak."""
+    from fricdamp.solvers.hb import frequency_response
+
+    short = frequency_response(_duffing(), 0.8, 1.6, harmonics=3, max_points=10)
+    assert short.status != 0
+    assert short.verdict.status == FAILED and short.peak_truncated
+    full = frequency_response(_duffing(), 0.8, 1.6, harmonics=3)
+    assert full.success and full.verdict.status == OK and not full.peak_truncated
+
+
+def test_harmonic_truncation_tracks_the_true_truncation_error():
+    """Jenkins oscillator in gross slip (F_s = 0.05, F = 0.1, Omega = 1.2). The true error of
+    the amplitude at H is measured against H = 41; the estimate (re-solve at min(2H+1, H+10))
+    must be of its size: within a factor 3, or 1e-4 absolute (the H = 41 reference and the
+    AFT grids differ at that level). H = 1: 1.9 % true error; H = 7: 5e-4."""
+    from fricdamp.contact import Jenkins
+    from fricdamp.solvers.hb import harmonic_balance
+    from fricdamp.structure import ContactElement, HarmonicLoad, MechanicalSystem
+    from fricdamp.verdict import harmonic_truncation
+
+    s = MechanicalSystem(M=[[1.0]], K=[[1.0]], D=[[0.02]],
+                         contacts=(ContactElement(Jenkins(1.0, 0.05), [[1.0]]),),
+                         loads=(HarmonicLoad([0.1], omega=1.0),))
+    ref = harmonic_balance(s, 1.2, harmonics=41)
+    est = {}
+    for H in (1, 3, 7):
+        ss = harmonic_balance(s, 1.2, harmonics=H)
+        e = harmonic_truncation(s, 1.2, ss.coefficients, harmonics=H, samples=ss.samples)
+        true = abs(ss.amplitude[0] - ref.amplitude[0]) / ref.amplitude[0]
+        est[H] = e["harmonic_truncation"]
+        assert est[H] <= 3 * true + 1e-4 and true <= 3 * est[H] + 1e-4, (H, est[H], true)
+    assert est[1] > 10 * est[7]

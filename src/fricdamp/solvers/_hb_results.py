@@ -143,6 +143,16 @@ class SteadyState:
     dof_names: tuple[str, ...] = ()
     contact_names: tuple[str, ...] = ()
 
+    @property
+    def verdict(self):
+        """:class:`fricdamp.verdict.Verdict`: ``failed`` if Newton did not converge, else
+        judged on the energy balance; for the harmonic truncation call
+        :func:`fricdamp.verdict.harmonic_truncation` with the system."""
+        from fricdamp.verdict import judge
+
+        return judge({"energy_balance_error": float(self.energy_balance_error)},
+                     failed=None if self.success else self.message)
+
     def time_history(self, n_samples: int = 256) -> tuple[np.ndarray, np.ndarray]:
         """One period: times t [s] shape (n_samples,) and q(t) shape (n_samples, n_dof)."""
         S = _fine_synthesis(self.harmonics, int(n_samples))
@@ -291,6 +301,30 @@ class FrequencyResponse:
     @property
     def n_points(self) -> int:
         return int(self.omega.size)
+
+    @property
+    def peak_truncated(self) -> bool:
+        """The largest amplitude (of any DOF) lies at an end of the computed curve: it is
+        not a resonance peak."""
+        if self.n_points < 3:
+            return True
+        i = int(np.argmax(np.max(self.amplitude, axis=1)))
+        return i in (0, self.n_points - 1)
+
+    @property
+    def verdict(self):
+        """:class:`fricdamp.verdict.Verdict` from what the curve itself knows: ``failed`` if
+        the continuation did not reach its end (``status != 0``), ``unreliable`` if the energy
+        balance exceeds its limit. The harmonic truncation needs the system:
+        :func:`fricdamp.verdict.harmonic_truncation` at the peak (the ``frf`` analysis of a
+        case does it)."""
+        from fricdamp.verdict import judge
+
+        ebe = float(np.max(self.energy_balance_error)) if self.n_points else float("nan")
+        failed = None if self.success else (
+            f"the continuation stopped (status {self.status}): {self.message}")
+        return judge({"energy_balance_error": ebe, "peak_truncated": self.peak_truncated},
+                     failed=failed)
 
     def steady_state(self, i: int) -> SteadyState:
         """Point ``i`` as a :class:`SteadyState`."""
