@@ -179,3 +179,17 @@ def test_identification_json_and_exit_3_when_unreliable(files, tmp_path, capsys)
     # no diagnostics: never 3
     assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out3),
                  "--no-diagnostics"]) == 0
+
+
+@pytest.mark.parametrize("frequency", ["45", "17"])
+def test_wrong_excitation_frequency_exits_3(files, tmp_path, capsys, frequency):
+    """Issue 15: identify with the wrong excitation frequency reported a negative dissipated
+    energy (45 Hz for a 30 Hz record) with exit 0. A given frequency more than 5 % away from
+    the signals' strongest line is unreliable (exit 3), whatever the sign of the area."""
+    sig, rig = files
+    out = tmp_path / f"f{frequency}"
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out),
+                 "--frequency", frequency]) == 3
+    d = json.loads((out / "identification.json").read_text())
+    assert d["status"] == "unreliable"
+    assert "is not the signals' strongest line" in d["warnings"][0]

@@ -72,6 +72,7 @@ of E_d and xi; ``status`` is "unreliable" when the interval is too wide (docs/id
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -598,6 +599,18 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
         if frequency_hz * dt < 0.125:  # refined on the second half, before the transient test
             frequency_hz = refine_frequency(G[t.size // 2:, strongest], dt, frequency_hz)
     frequency_hz = float(check_positive("frequency_hz", frequency_hz, unit="Hz"))
+    mismatch = None
+    if not estimated and frequency_hz < 0.5 / dt:
+        # a given frequency that is not the signals' strongest line makes a loop of the wrong
+        # period: its area (even its sign) is meaningless
+        strongest = int(np.argmax(np.std(G, axis=0)))
+        seen = float(estimate_frequency(G[:, strongest], dt))
+        tol = max(FREQUENCY_MISMATCH * frequency_hz, 1.5 / (G.shape[0] * dt))  # 1.5 bins
+        if abs(seen - frequency_hz) > tol:
+            mismatch = (f"the given excitation frequency {frequency_hz:g} Hz is not the "
+                        f"signals' strongest line ({seen:.4g} Hz, more than "
+                        f"{100 * FREQUENCY_MISMATCH:g} % away): the loop is not one period; "
+                        "check frequency_hz or leave it out to estimate it")
     if frequency_hz >= 0.5 / dt:
         raise ModelError(f"frequency_hz = {frequency_hz:g} Hz is above the Nyquist frequency "
                          f"{0.5 / dt:g} Hz of the record")
@@ -664,10 +677,13 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
                        geometry=geometry, options=options, t_steady=t_s, G_steady=G_s, dt=dt,
                        unc=uncertainty or MeasurementUncertainty(),
                        thr=thresholds or TrustThresholds(), notes=notes)
+        if mismatch is not None:
+            trust = dataclasses.replace(trust, status="unreliable",
+                                        warnings=(mismatch, *trust.warnings))
         if trust.status != "ok":  # the verdict travels with the result; callers report it
             log.info("identification unreliable: %s", "; ".join(trust.warnings))
-    elif notes:
-        log.warning("%s", "; ".join(notes))
+    elif notes or mismatch:
+        log.warning("%s", "; ".join([*([mismatch] if mismatch else []), *notes]))
     return JointIdentification(
         time=tw, theta1=theta1, theta2=theta2, x1=x1, rotation=rotation, torque=torque,
         frequency_hz=frequency_hz, n_periods=n_per, dissipated_energy=e_d,
@@ -675,6 +691,11 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
         damping_ratio=float(xi), kinematics=kinematics, filter=filter, resampled=resampled,
         filtered_fraction=loop.residual, source=source, damping_ratio_energy=float(xi_e),
         skipped_periods=skip, time_snapped=snapped, trust=trust)
+
+
+#: Largest relative distance between a given excitation frequency and the strongest line of
+#: the signals (or 1.5 FFT bins, 1.5 / record length, if that is more: the line's resolution).
+FREQUENCY_MISMATCH = 0.05
 
 
 #: Voltage units of channels that a sensitivity [mV/g] turns into accelerations.
