@@ -210,3 +210,24 @@ def test_harmonic_truncation_tracks_the_true_truncation_error():
         est[H] = e["harmonic_truncation"]
         assert est[H] <= 3 * true + 1e-4 and true <= 3 * est[H] + 1e-4, (H, est[H], true)
     assert est[1] > 10 * est[7]
+
+
+def test_contact_that_dissipates_more_than_it_received_is_unreliable():
+    """Issue 15's stiff-contact run: the contact "dissipated" 0.2 J of 0.1 J, energy balance
+    error 0.573, exit 0. Reproduced here by a law that books twice its true dissipation (the
+    bookkeeping error a bad contact integration makes): the verdict is unreliable, and the
+    reason names the energy balance."""
+    from fricdamp.contact import Jenkins
+    from fricdamp.structure import ContactElement
+
+    class DoubleBooked(Jenkins):
+        def dissipation(self, state_old, state_new, force_new):
+            return 2.0 * super().dissipation(state_old, state_new, force_new)
+
+    s = chain([1.0], [2000.0]).with_contacts(ContactElement(DoubleBooked(1e6, 5.0), [[1.0]]))
+    res = simulate(s, 0.5, 1e-4, q0=[0.01], progress=False)     # 0.1 J initial energy
+    e = res.energy
+    assert e["contact_dissipation"][-1] > 1.5 * (e["kinetic"][0] + e["strain"][0]) / 2
+    v = time_result_verdict(s, res, 1e-4)
+    assert res.energy_balance_error > 0.1 and v.status == UNRELIABLE
+    assert any(r.startswith("energy balance error") for r in v.reasons)
