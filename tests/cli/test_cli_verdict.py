@@ -292,3 +292,13 @@ def test_second_sweep_into_a_locked_folder_is_refused(cli, write_case, tmp_path)
                        "--serial", "--out", out, "--no-progress")
     assert code == 1 and "another fricdamp sweep" in _one_line(err)
     assert not (out / "points").exists()
+
+
+def test_time_step_too_small_for_memory_is_refused_naming_the_parameter(cli, write_case,
+                                                                         tmp_path):
+    case = replace_once(BASE_CASE, "time_step_s = 5.0e-4", "time_step_s = 1.0e-12")
+    t0 = time.perf_counter()
+    code, stdout, err = cli("run", write_case(case), "--out", tmp_path / "o")
+    assert code == 2 and time.perf_counter() - t0 < 30
+    line = _one_line(err)
+    assert "time_step_s" in line and "time steps" in line   # the schema's step limit

@@ -483,7 +483,9 @@ def engine_order_load(n_sectors: int, engine_order: int, amplitude: float, *,
     if int(dofs_per_sector) != dofs_per_sector or dofs_per_sector < 1:
         raise ModelError(f"dofs_per_sector must be an integer >= 1, got {dofs_per_sector!r}")
     if not 0 <= dof < dofs_per_sector:
-        raise ModelError(f"dof must lie in [0, {dofs_per_sector - 1}], got {dof!r}")
+        raise ModelError(f"dof is a Python index of the sector's DOFs and must lie in "
+                         f"[0, {dofs_per_sector - 1}] (DOF numbers 1 to {dofs_per_sector}), "
+                         f"got {dof!r}")
     if int(engine_order) != engine_order:
         raise ModelError(f"engine_order must be an integer, got {engine_order!r}")
     a = np.zeros(int(n_sectors) * int(dofs_per_sector), complex)
