@@ -12,7 +12,11 @@ and run a case. What a case may contain is the :data:`REGISTRY`:
 * ``register_analysis(name, schema, run_fn, check=None)``: ``[analysis.<name>]``;
   ``run_fn(system, spec, ctx)`` returns an :class:`AnalysisOutput` (``ctx`` is a
   :class:`RunContext`); ``check(system, spec)`` validates what depends on the model (vector
-  lengths, DOF numbers) and raises :class:`~fricdamp.errors.CaseError`.
+  lengths, DOF numbers) and raises :class:`~fricdamp.errors.CaseError`. An analysis judges
+  its own numbers by setting ``AnalysisOutput.verdict`` (a :class:`fricdamp.verdict.Verdict`,
+  e.g. ``judge({"energy_balance_error": e, ...}, reasons=[...], failed=...)``); without one it
+  gets :func:`default_verdict`. The verdicts go to summary.json's ``verdict`` and set the exit
+  code of ``fricdamp run`` (0 ok, 3 unreliable, 1 failed).
 
 ``schema`` is a pydantic model (derive from :class:`fricdamp.case.Section` for the strict
 rules); the ``type`` key is removed from the table before it is validated.

@@ -24,7 +24,7 @@ from fricdamp.runner import (
     register_analysis,
     register_model,
 )
-from fricdamp.verdict import harmonic_truncation, judge
+from fricdamp.verdict import THRESHOLDS, harmonic_truncation, judge
 
 
 # ------------------------------------------------------------------------------- model
@@ -152,6 +152,13 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
         trunc = harmonic_truncation(sys_, float(res.omega[ipk]), res.coefficients[ipk],
                                     harmonics=res.harmonics, samples=res.samples)
     reasons = []
+    w_scale = float(np.max(np.abs(res.external_work), initial=0.0))
+    neg = float(np.min(diss, initial=0.0))
+    if neg < -THRESHOLDS["negative_dissipation"] * max(w_scale, 1e-300):
+        i_neg = int(np.argmin(diss))
+        reasons.append(f"the contacts give energy back ({neg:.3g} J per cycle at "
+                       f"{res.omega[i_neg] / (2 * np.pi):.4g} Hz): not a passive steady state; "
+                       "increase harmonics or samples")
     for key in ("harmonic_truncation", "aft_sampling_error"):
         if trunc and trunc.get(key) is None:
             reasons.append(f"the {key.replace('_', ' ')} check at the peak did not converge "
