@@ -362,6 +362,11 @@ def _damping_amplitude_figures(entries: list) -> list:
         col = f"C{k}"
         ax.plot(1e3 * np.asarray(e["amplitude_m"]), 100 * np.asarray(e["damping_ratio"]),
                 "o-", color=col, label=f"{e['nd']}ND model")
+        rel = e.get("release_decay")
+        if rel and rel["amplitude_m"]:
+            ax.plot(1e3 * np.asarray(rel["amplitude_m"]), 100 * np.asarray(rel["damping_ratio"]),
+                    "-", color=col, lw=3, alpha=0.4,
+                    label=f"{e['nd']}ND release at {rel['rpm']:.0f} rpm, free decay (Hilbert)")
         if "paper_fem_damping_ratio" in e:
             ax.plot([0.0, 1e3 * e["paper_fem_max_amplitude_m"]],
                     [100 * e["paper_fem_damping_ratio"]] * 2, "--", color=col, lw=1.5,

@@ -236,10 +236,17 @@ class DampingAmplitudeAnalysis(Section):
     n_modes: int = Field(4, ge=0, le=100, description="Craig-Bampton modes per sector")
     harmonics: int = Field(5, ge=1, le=30, description="harmonics H")
     samples: int = Field(120, ge=8, le=4096, description="AFT samples per period")
+    release_duration_s: float = Field(0.0, ge=0.0, le=5.0, description="> 0: also release "
+                                      "the largest level's resonant state and integrate the "
+                                      "free decay of the rotating wheel this long")
+    release_time_step_s: Positive = Field(1e-5, le=1e-3, description="its time step")
 
     @model_validator(mode="after")
     def _check(self):
         _range(self)
+        if self.release_duration_s > 0 and self.orders is None:
+            raise ValueError("release_duration_s > 0 needs orders (the release is from the "
+                             "speed-locked resonance)")
         if len(self.force_levels_N) != len(self.nodal_diameters):
             raise ValueError(f"force_levels_N needs one list per ND ({len(self.nodal_diameters)}"
                              f"), got {len(self.force_levels_N)}")
@@ -275,6 +282,14 @@ def run_damping_amplitude(model, spec: DampingAmplitudeAnalysis,
                 e["damping_ratio_at_paper_test_amplitudes"] = [
                     float(np.exp(np.interp(np.log(a), np.log(A), np.log(z))))
                     if A[0] <= a <= A[-1] else None for a in TABLE2_AMPLITUDES_M[nd]]
+        if spec.release_duration_s > 0:
+            from fricdamp.models.tieboss_forced import release_decay
+
+            e["release_decay"] = release_decay(
+                obj.sector, nd, o, force_N=max(spec.force_levels_N[i]), pulses=spec.pulses,
+                frequency_range_hz=tuple(spec.frequency_range_hz), n_modes=spec.n_modes,
+                harmonics=spec.harmonics, samples=spec.samples,
+                duration_s=spec.release_duration_s, dt=spec.release_time_step_s)
         skipped = len(spec.force_levels_N[i]) - len(e["amplitude_m"])
         if skipped:
             notes.append(f"{nd}ND: {skipped} load level(s) without a resonance inside "

@@ -69,7 +69,7 @@ def cyclic_problem(sector: TiebossSector, nd: int, *, force_N: float = 1.0,
                    n_modes: int | None = 4, load_group: str = "tieboss",
                    harmonics: int = 5, samples: int = 120,
                    excitations_per_rev: float | None = None, law=None,
-                   wheel: TiebossWheel | None = None):
+                   wheel: TiebossWheel | None = None, force_vector=None):
     """The cyclic HB problem of the beam wheel for a forward wave of ``nd`` ND.
 
     Parameters
@@ -94,6 +94,9 @@ def cyclic_problem(sector: TiebossSector, nd: int, *, force_N: float = 1.0,
         One-contact law (default: the wheel's, 003 (2)).
     wheel : TiebossWheel, optional
         A prebuilt (reduced) wheel of ``sector`` with ``n_modes`` modes.
+    force_vector : array_like, shape (n,), optional
+        The load phasor on the (reduced) sector's DOFs [N], instead of ``force_N`` at
+        ``load_group``.
 
     Returns
     -------
@@ -109,8 +112,13 @@ def cyclic_problem(sector: TiebossSector, nd: int, *, force_N: float = 1.0,
                          f"choose one of {sorted(cyc.named_dofs)}")
     P = sector.contact_rows(cyc)
     law = _contact_law(sector.parameters, 1) if law is None else law
-    f = np.zeros(cyc.n_dof, complex)
-    f[np.asarray(cyc.named_dofs[load_group])] = float(force_N) * sector.flexural_direction
+    if force_vector is not None:
+        f = np.asarray(force_vector, complex).reshape(-1)
+        if f.size != cyc.n_dof:
+            raise ModelError(f"force_vector must have {cyc.n_dof} entries, got {f.size}")
+    else:
+        f = np.zeros(cyc.n_dof, complex)
+        f[np.asarray(cyc.named_dofs[load_group])] = float(force_N) * sector.flexural_direction
     kw = {}
     if excitations_per_rev is not None:
         kw = {"rotation_stiffness": _rotation_stiffness(sector, wheel),
@@ -191,7 +199,7 @@ def forced_response_by_nd(sector: TiebossSector, nd: int, order: int, *, pulses:
 def damping_vs_amplitude(sector: TiebossSector, nd: int, forces_N, *, order: int | None = None,
                          pulses: int = 8, frequency_range_hz=(40.0, 52.0),
                          n_modes: int | None = 4, harmonics: int = 5, samples: int = 120,
-                         step: float = 0.01) -> dict:
+                         step: float = 0.01, law=None, force_vector=None) -> dict:
     """Damping ratio of the resonant state against its amplitude (one sweep per load).
 
     For each load level the resonance peak of the frequency response (speed-locked with
@@ -199,7 +207,8 @@ def damping_vs_amplitude(sector: TiebossSector, nd: int, forces_N, *, order: int
     equivalent ratio ``zeta = (W_visc + W_contact) / (4 pi E_max)`` (0.1 % material
     damping included, as in 003's log decrements). Load levels whose largest response
     lies at an end of ``frequency_range_hz`` (no resonance inside: the contacts stay
-    stuck and the stuck-wheel resonance lies above the range) are left out.
+    stuck and the stuck-wheel resonance lies above the range) are left out. ``law`` and
+    ``force_vector`` (scaled by each level) as :func:`cyclic_problem`.
 
     Returns
     -------
@@ -215,7 +224,9 @@ def damping_vs_amplitude(sector: TiebossSector, nd: int, forces_N, *, order: int
     for F in forces_N:
         pb, wheel = cyclic_problem(sector, nd, force_N=float(F), n_modes=n_modes,
                                    harmonics=harmonics, samples=samples,
-                                   excitations_per_rev=E, wheel=wheel)
+                                   excitations_per_rev=E, wheel=wheel, law=law,
+                                   force_vector=None if force_vector is None
+                                   else float(F) * np.asarray(force_vector))
         lo, hi = (2 * np.pi * float(f) for f in frequency_range_hz)
         res = cyclic_frequency_response(pb, lo, hi, step=step)
         dofs, d = _probe(wheel)
@@ -363,3 +374,69 @@ def mistuned_amplification(wheel: TiebossWheel, nd: int, force_N: float, scatter
     out["amplification_factor"] = [a / tuned for a in out["peak_amplitude_m"]]
     out.update(friction=bool(friction), seed=int(seed), nd=int(nd), force_N=float(force_N))
     return out
+
+
+# ------------------------------------------------------------------------------ release
+def release_decay(sector: TiebossSector, nd: int, order: int, *, force_N: float = 2.0,
+                  pulses: int = 8, frequency_range_hz=(40.0, 52.0), n_modes: int = 4,
+                  harmonics: int = 5, samples: int = 120, duration_s: float = 0.3,
+                  dt: float = 1e-5) -> dict:
+    """Resonance, release, decay -- as in the rig test (003 section 2.3).
+
+    The speed-locked cyclic HB response is followed to its resonance peak; at that speed the
+    travelling-wave state (expanded to the 30 Craig-Bampton sectors, displacement and
+    velocity at ``tau = 0``) starts a free decay of the *rotating* wheel (stiffness
+    ``K + Omega^2 (K_sigma - K_d)`` of every sector; the excitation switched off) by the
+    compiled contact integrator; the contacts start from their virgin state loaded to the
+    initial displacement (the sliders are not part of the HB unknowns), which perturbs the
+    first cycles. The probe's Hilbert envelope gives zeta(A) along the decay.
+
+    Returns
+    -------
+    dict
+        ``nd``, ``order``, ``rpm``, ``start_amplitude_m`` (HB peak), ``amplitude_m`` and
+        ``damping_ratio`` (Hilbert, cycle by cycle), ``record_damping_ratio`` (log
+        decrement of the envelope peaks), ``frequency_hz``, ``energy_balance_error``,
+        ``runtime_s``.
+    """
+    from fricdamp.models.tieboss_analyses import decay_estimates
+    from fricdamp.solvers.fast_transient import integrate_contact3d
+
+    E = float(pulses) * int(order)
+    pb, wheel = cyclic_problem(sector, nd, force_N=force_N, n_modes=n_modes,
+                               harmonics=harmonics, samples=samples, excitations_per_rev=E)
+    lo, hi = (2 * np.pi * float(f) for f in frequency_range_hz)
+    res = cyclic_frequency_response(pb, lo, hi)
+    dofs, d = _probe(wheel)
+    amp = res.amplitude(dofs, d)
+    i = _peak(res, amp)
+    om = float(res.omega[i])
+    spin = om / E
+    # the rotating wheel at that speed
+    N = wheel.n_blades
+    Kr = sp.csr_matrix(_rotation_stiffness(sector, wheel))
+    T = [wheel.cyclic.transform(j) for j in range(N)]
+    Kw = sum((T[j].T @ Kr @ T[j] for j in range(N)), sp.csr_matrix((wheel.n_dof,) * 2))
+    K = _dense(wheel.system.K) + spin**2 * _dense(0.5 * (Kw + Kw.T))
+    a_r, b_r = wheel.parameters.rayleigh()
+    # Rayleigh damping of the spinning stiffness (the compiled integrator needs it modal;
+    # b Omega^2 K_rot changes the 0.1 % by < 1e-3 of itself)
+    system = replace(wheel.system, K=K, D=a_r * _dense(wheel.system.M) + b_r * K, loads=())
+    C = expand_to_wheel(res, wheel, i)                               # (n_dof, 2H+1)
+    h = np.arange(1, pb.H + 1)
+    q0 = C[:, 0] + C[:, 1::2].sum(axis=1)                            # tau = 0
+    v0 = om * (C[:, 2::2] * h).sum(axis=1)
+    out = integrate_contact3d(system, duration_s, dt, q0=q0, v0=v0, save_every=5,
+                              output_dofs=wheel.group_dofs("probe", 0))
+    x = out.q @ d
+    x = x - np.mean(x[-max(x.size // 20, 10):])                     # rest position at the end
+    dec, hil, zeta = decay_estimates(out.t, x, f"{nd}ND release")
+    src = hil if hil is not None else dec
+    return {"nd": int(nd), "order": int(order), "rpm": 60.0 * om / (2 * np.pi * E),
+            "start_amplitude_m": float(amp[i]),
+            "amplitude_m": [] if src is None else src.amplitude.tolist(),
+            "damping_ratio": [] if src is None else src.damping_ratio.tolist(),
+            "record_damping_ratio": zeta,
+            "frequency_hz": None if dec is None else dec.mean_frequency_hz,
+            "energy_balance_error": float(out.energy_balance_error),
+            "duration_s": duration_s, "dt_s": dt, "runtime_s": float(out.runtime_s)}
