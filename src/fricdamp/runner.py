@@ -531,10 +531,20 @@ def run_case(case: Case, out_dir: str | Path, *, registry: Registry | None = Non
     out_dir = Path(out_dir)
     # the folder is created and write-tested before anything is computed, and locked
     # against a second run into it
+    created = not out_dir.exists()
     prepare_output_folder(out_dir)
-    with OutputLock(out_dir, "run"):
-        computed = compute_case(case, registry=reg, progress=progress, echo=echo)
-        return _write_case(case, computed, out_dir, results_format, start)
+    try:
+        with OutputLock(out_dir, "run"):
+            computed = compute_case(case, registry=reg, progress=progress, echo=echo)
+            return _write_case(case, computed, out_dir, results_format, start)
+    except BaseException:
+        # a run that fails before writing leaves no trace: remove the folder it created
+        if created:
+            import contextlib
+
+            with contextlib.suppress(OSError):
+                out_dir.rmdir()   # only if empty
+        raise
 
 
 def verdict_summary(outputs: dict) -> dict:
