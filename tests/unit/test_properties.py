@@ -36,7 +36,7 @@ from fricdamp.contact.element3d import Contact3D  # noqa: E402
 from fricdamp.contact.iwan import Iwan  # noqa: E402
 from fricdamp.errors import CaseError, ModelError  # noqa: E402
 
-FAST = settings(max_examples=40, deadline=None,
+FAST = settings(max_examples=40, deadline=None, database=None,
                 suppress_health_check=[HealthCheck.too_slow])
 
 
@@ -212,7 +212,8 @@ def _none_free(v):
     return v is not None
 
 
-@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=120, deadline=None, database=None,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(path=st.sampled_from(_PATHS), op=st.sampled_from(["replace", "delete", "add"]),
        value=VALUES.filter(_none_free))
 def test_a_mutated_case_is_valid_or_a_clean_case_error(path, op, value):
