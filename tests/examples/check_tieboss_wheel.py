@@ -20,8 +20,8 @@ References computed here, independently of the case's analyses:
 * The log decrement recomputed from the reported envelope peaks,
   ``delta = ln(A_first / A_last) / cycles``, ``zeta = delta / sqrt(4 pi^2 + delta^2)``.
 * Paper 003 section 3.2: 6ND damped more than 2ND; ratios "1.2 % for 2ND and 2.2 % for 6ND"
-  (compared to within a factor 1.5: our beam model is tuned to Table 1 only, the paper's
-  89,000-element model and rig are not published); an almost linear (Coulomb-like) decay;
+  (a factor-1.5 guard only: the comparison at equal amplitude, with what moves it, is the
+  damping-gap study of docs/cases_tieboss_wheel.md); an almost linear (Coulomb-like) decay;
   contacts in slip and near-contact (open) states (Figs 17-18); prestress 2.4 N from the
   offset 1e-5 m (section 2.4).
 * DOF counts from the mesh of the case: (n_hub_elements + n_blade_elements + 4) free nodes of
@@ -156,7 +156,10 @@ def check(summary: dict, case: dict) -> None:
         assert d["frequency_hz"] == pytest.approx(f_r, rel=0.02)
         # friction, not the 0.1 % material damping, is what damps (factor 5)
         assert d["damping_ratio"] > 5 * mc["damping_ratio"]
-        # 003 section 3.2 "to the order" (module doc): factor 1.5
+        # 003 section 3.2: a guard only (factor 1.5). The numbers are record averages of
+        # decays whose amplitude is not pinned; the comparison at equal amplitude and the
+        # physics the surrogate lacks (contact surface and stiffness) are in
+        # docs/cases_tieboss_wheel.md, "The damping gap", and checked in _check_rig_test
         assert PAPER_ZETA[nd] / 1.5 < d["damping_ratio"] < 1.5 * PAPER_ZETA[nd], d
         assert d["envelope_model"] == "coulomb"           # almost linear decay (003 Fig. 19)
         fr = d["state_fractions"]
@@ -246,6 +249,18 @@ def _check_rig_test(summary: dict, case: dict, zeta_decay: dict) -> None:
             if A[0] <= a_d <= A[-1]:
                 z_f = np.exp(np.interp(np.log(a_d), np.log(A), np.log(z)))
                 assert z_d == pytest.approx(z_f, rel=0.25), (nd, a_d, z_d, z_f)
+        # resonance, release, decay of the rotating wheel (time integration from the HB
+        # state): its Hilbert ratio follows the resonance-energy curve within 15 %
+        rel = e.get("release_decay")
+        if rel is not None:
+            assert rel["start_amplitude_m"] == pytest.approx(A[-1], rel=0.02)
+            assert rel["energy_balance_error"] < 1e-3
+            pts = [(a_r, z_r) for a_r, z_r in zip(rel["amplitude_m"], rel["damping_ratio"],
+                                                  strict=True) if A[0] <= a_r <= A[-1]]
+            assert len(pts) >= 3
+            for a_r, z_r in pts:
+                z_f = np.exp(np.interp(np.log(a_r), np.log(A), np.log(z)))
+                assert z_r == pytest.approx(z_f, rel=0.15), (nd, a_r, z_r, z_f)
     for a in (0.3e-3, 0.5e-3, 1.0e-3):
         z2 = np.interp(a, *curves[2])
         z6 = np.interp(a, *curves[6])
