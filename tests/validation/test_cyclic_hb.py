@@ -155,7 +155,7 @@ def test_beam_wheel_cyclic_equals_full_wheel_hb(wheel6):
             assert np.abs(xf - xc).max() < 1e-6 * xc[0], (i, blade, xf, xc)
 
 
-def test_stuck_limit_energy_ratio_is_rayleigh():
+def test_stuck_limit_energy_ratio_is_the_damped_eigenvalue_ratio():
     from fricdamp.contact.element3d import Contact3D
     from fricdamp.models.tieboss_forced import cyclic_problem
     from fricdamp.models.tieboss_wheel import build_sector
