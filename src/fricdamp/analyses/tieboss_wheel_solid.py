@@ -654,7 +654,27 @@ def run_solid_free_attenuation(model: SolidWheelCaseModel, spec,
         return _decay_figures(runs, model)
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
-                          notes=notes, top_level={"decay": entries})
+                          notes=notes, top_level={"decay": entries},
+                          verdict=_decay_verdict(runs, spec.time_step_s, spec.duration_s))
+
+
+def _decay_verdict(runs, dt: float, duration: float):
+    """Verdict on solid decays: energy balance, Newmark period error of each decaying mode
+    (its frequency times the step), the share of steps accepted at the loose residual
+    (limit 1 %: beyond it the contact history is not the converged one), and a damping
+    ratio for every ND."""
+    from fricdamp.verdict import THRESHOLDS, judge, newmark_period_error
+
+    n_steps = max(int(round(duration / dt)), 1)
+    freq = [r.decay.mean_frequency_hz for r in runs if r.decay is not None]
+    est = {"energy_balance_error": max(r.energy_balance_error for r in runs),
+           "period_error": float(max((newmark_period_error(2 * np.pi * f * dt)
+                                      for f in freq), default=0.0)),
+           "loose_step_fraction": max(r.meta.get("n_loose_steps", 0) for r in runs) / n_steps}
+    reasons = [f"{r.nd}ND: too few envelope peaks for a damping ratio (lengthen duration_s)"
+               for r in runs if r.decay is None]
+    return judge(est, thresholds={**THRESHOLDS, "loose_step_fraction": 1e-2},
+                 reasons=reasons)
 
 
 def _loose_notes(runs) -> list[str]:
@@ -767,13 +787,14 @@ def run_penalty_convergence(model: SolidWheelCaseModel, spec: PenaltyConvergence
     """Decays for each penalty factor at the same prestress (module docstring)."""
     zeta = {nd: [] for nd in spec.nodal_diameters}
     offsets, forces = [], []
-    loose = []
+    loose, all_runs = [], []
     for fac in spec.penalty_factors:
         s = model.settings.with_(penalty_factor=float(fac))
         off, fn = model.offset(s)
         offsets.append(off)
         forces.append(fn)
         runs = _decays(model, spec, s, off, ctx)
+        all_runs += runs
         loose += _loose_notes(runs)
         for r in runs:
             zeta[r.nd].append(r.damping_ratio)
@@ -807,8 +828,15 @@ def run_penalty_convergence(model: SolidWheelCaseModel, spec: PenaltyConvergence
         return [("penalty_convergence.png", "Damping ratio by ND against the penalty factor "
                  "at the same 2.4 N prestress", fig)]
 
+    verdict = _decay_verdict(all_runs, spec.time_step_s, spec.duration_s)
+    if not summary["converged"]:
+        from fricdamp.verdict import judge
+
+        verdict = judge(verdict.estimates, thresholds={}, reasons=(
+            *verdict.reasons, "the damping moves by more than 5 % between the two largest "
+            "penalty factors: not converged in the penalty"))
     return AnalysisOutput(summary=summary, arrays={}, figures=figures, headline=headline,
-                          notes=notes)
+                          notes=notes, verdict=verdict)
 
 
 # ================================================================================ mistuning
