@@ -19,7 +19,11 @@ contacts within round-off of each other are one event. The new configuration of 
 with zero slip velocity is decided together by the friction complementarity problem
 (Lemke's method, :func:`~fricdamp.solvers.event_switch.solve_friction_lcp`), with a
 breakaway cascade for ``mu_static > mu_sliding`` (:func:`~fricdamp.solvers.event_switch.
-decide_modes`). Stick is kept whenever it is consistent.
+decide_modes`). Stick is kept whenever it is consistent; when several configurations with
+the most stuck contacts are consistent (``mu_static > mu_sliding``, e.g. two symmetric
+contacts of which either may break away) a warning is logged and the switch is listed in
+``EventResult.meta["ambiguous_switches"]``. In DOP853 phases, roots closer than their
+integration uncertainty are one event (:func:`~fricdamp.solvers.event_phase.first_event`).
 Before deciding after a DOP853 phase, the velocity is projected (M-orthogonally) onto zero
 slip velocity of every contact the decision concerns (the stuck ones, the one that just
 reached zero, those at round-off from it); at the start of every phase it is projected onto
@@ -582,7 +586,9 @@ class _Run:
             n_rhs=self.n_rhs, n_expm=self.n_expm, n_singular=self.ev.n_singular,
             projection_energy=self.proj_energy,
             method="exact" if self.lf is not None else "dop853", runtime_s=runtime,
-            dof_names=tuple(s.dof_names), contact_names=tuple(s.contact_names))
+            dof_names=tuple(s.dof_names), contact_names=tuple(s.contact_names),
+            meta={"ambiguous_switches": [(t, [m.tolist() for m in alts])
+                                         for t, alts in self.decider.ambiguities]})
 
 
 __all__ = ["ConstrainedSystem", "CoulombSystem", "EventResult", "LinearForm", "SwitchEvent",

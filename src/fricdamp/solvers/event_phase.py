@@ -13,7 +13,10 @@ Event functions are sampled on a grid of step ``pi / (4 w_max)`` (w_max the larg
 their exact derivatives; a sign change from positive to non-positive, or a sampled interval
 whose derivative changes sign with a non-positive minimum (a grazing dip), is refined by
 Brent's method to round-off. DOP853 phases test each step at its end and at three interior
-points of the dense output.
+points of the dense output. Roots of several functions closer than round-off (exact phases)
+or than their integration uncertainty (DOP853: ``rtol`` times the function's scale over its
+rate, so that round-off does not decide which of two symmetric contacts breaks away first)
+are one event.
 """
 
 from __future__ import annotations
@@ -84,7 +87,7 @@ def _refine(g, ta, tb, h_scale):
     return r
 
 
-def first_event(tt, G, gi, tol, first, GD=None, gdi=None):
+def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None):
     """Earliest event among sampled event functions.
 
     An event function fires when it falls below ``-tol`` (its round-off level): a function
@@ -108,6 +111,11 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None):
         Derivative samples and evaluator: an interval where the function stays above the
         threshold at both ends but its derivative changes sign is searched for a dip
         (grazing) below it.
+    time_tol : callable (i, t) -> float, optional
+        Uncertainty [s] of the root of function i at t from the integration error (a phase
+        whose event functions come from a numerical solution). Roots whose uncertainty
+        intervals overlap the earliest one's are one event; without it (exact phases) only
+        roots within round-off are grouped.
 
     Returns
     -------
@@ -139,7 +147,14 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None):
                     roots[i] = _refine(gs, tt[j], tm, tt[j + 1] - tt[j])
         if np.isfinite(roots).any():
             best = roots.min()
-            group = roots <= best + 1e3 * _EPS * max(abs(best), tt[j + 1] - tt[j])
+            window = np.full(roots.size, 1e3 * _EPS * max(abs(best), tt[j + 1] - tt[j]))
+            if time_tol is not None:
+                ib = int(np.argmin(roots))
+                dt_best = time_tol(ib, best)
+                for i in np.flatnonzero(np.isfinite(roots)):
+                    if i != ib and roots[i] > best + window[i]:
+                        window[i] = max(window[i], dt_best + time_tol(i, roots[i]))
+            group = roots <= best + window
             return float(roots[group].max()), np.flatnonzero(group), False
     return None
 
@@ -262,8 +277,19 @@ class NumericalPhase:
             for _, sc in cols:
                 self._scale = np.maximum(self._scale, sc)
             tt = np.concatenate([[t_prev], ts])
-            found = first_event(tt, G, lambda i, t, f=interp: self._g(t, f(t))[0][i],
-                                1e2 * _EPS * self._scale + np.finfo(float).tiny, first)
+            def gfun(i, t, f=interp):
+                return self._g(t, f(t))[0][i]
+
+            def time_tol(i, t, f=interp, h=tb - ta):
+                # root uncertainty: the event function's integration error (rtol times its
+                # scale) over its rate; at most a hundredth of the step
+                dt = 1e-6 * h
+                rate = abs(gfun(i, t + dt) - gfun(i, t - dt)) / (2 * dt)
+                err = self.rtol * self._scale[i]
+                return min(err / rate, 1e-2 * h) if rate > 0 else 1e-2 * h
+
+            found = first_event(tt, G, gfun, 1e2 * _EPS * self._scale + np.finfo(float).tiny,
+                                first, time_tol=time_tol)
             first = False
             if found is not None:
                 return Hit(found[0], found[1], immediate=found[2])

@@ -102,6 +102,8 @@ class Evaluator:
         self._plans: dict = {}
         self.n_solves = 0
         self.n_singular = 0
+        #: switches with several equally valid configurations (see decide_modes)
+        self.ambiguities: list = []
 
     def mass_factor(self, q):
         """A solver ``X -> M(q)^-1 X`` (the explicit inverse is cached for a constant mass)."""
@@ -279,7 +281,7 @@ class Evaluator:
             return a, ascale, lamT[:, 0], lamN[:, 0]
 
         return decide_modes(pt.t, modes, candidates, must_slip, self.mu_s, self.mu_d, affine,
-                            verify)
+                            verify, self.ambiguities)
 
 
 class LinearDecider:
@@ -299,6 +301,8 @@ class LinearDecider:
         self.Del = self.WtMinv @ lf.tangent
         self.absWtMinv = np.abs(self.WtMinv)
         self.absWt = np.abs(lf.tangent.T)
+        #: switches with several equally valid configurations (see decide_modes)
+        self.ambiguities: list = []
 
     def tangent_velocity(self, t, q, qd):
         return self.lf.tangent.T @ qd, self.absWt @ np.abs(qd)
@@ -352,10 +356,11 @@ class LinearDecider:
             return a, ascale, lamT, self.N
 
         return decide_modes(t, modes, candidates, must_slip, self.mu_s, self.mu_d, affine,
-                            verify)
+                            verify, self.ambiguities)
 
 
-def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify):
+def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify,
+                 ambiguities: list | None = None):
     """Consistent modes of the contacts with zero slip velocity after an event.
 
     Parameters
@@ -377,6 +382,12 @@ def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify):
         functions of their tangential forces.
     verify : callable (modes) -> (a, a_scale, lambda_T, lambda_N)
         Relative accelerations, their magnitude scale, and contact forces of a configuration.
+    ambiguities : list, optional
+        When given and 2 to 4 candidates with ``mu_static > mu_sliding`` are decided, every
+        consistent configuration is enumerated; if several share the largest number of
+        stuck contacts (the rule "stick whenever consistent" does not single one out: in a
+        symmetric system round-off would pick which contact breaks away) a warning is
+        logged and ``(t, [modes, ...])`` appended.
 
     Returns
     -------
@@ -420,6 +431,9 @@ def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify):
             broke |= newly
         new[cand] = np.where(slipping, np.sign(a), STICK).astype(int)
     if _consistent(new, decided, mu_s, verify) is None:
+        if ambiguities is not None and 2 <= cand.size <= 4 and np.any(
+                mu_s[cand] > mu_d[cand]):
+            _check_unique(t, new, cand, decided, mu_s, verify, ambiguities)
         return new
     # the cascade failed (normal forces coupled to the friction forces, or must-slip
     # contacts reversed by the others): enumerate the candidates' modes, most stick first
@@ -439,6 +453,29 @@ def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify):
         f"no consistent stick/slip configuration at t = {t:.17g} s (contacts {bad}): the "
         "friction problem has no solution here (Painleve-type paradox, or normal forces that "
         "depend strongly on the friction forces); check mu and the contact geometry")
+
+
+def _check_unique(t, new, cand, decided, mu_s, verify, ambiguities):
+    """Warn when several consistent configurations have the most stuck contacts."""
+    best, alts = -1, []
+    for combo in itertools.product((STICK, SLIP_POS, SLIP_NEG), repeat=cand.size):
+        n_stick = combo.count(STICK)
+        if n_stick < best:
+            continue
+        trial = new.copy()
+        trial[cand] = combo
+        if _consistent(trial, decided, mu_s, verify) is None:
+            if n_stick > best:
+                best, alts = n_stick, []
+            alts.append(trial)
+    if len(alts) > 1:
+        names = ["/".join(MODE_NAMES[int(m)] for m in a[cand]) for a in alts]
+        log.warning("switch at t = %.17g s has %d consistent configurations of contacts %s "
+                    "with %d stuck (%s); %s was taken: the stick-slip solution is not unique "
+                    "here (mu_static > mu_sliding), and round-off may decide it", t, len(alts),
+                    cand.tolist(), best, ", ".join(names),
+                    "/".join(MODE_NAMES[int(m)] for m in new[cand]))
+        ambiguities.append((float(t), [a.copy() for a in alts]))
 
 
 def _consistent(new, decided, mu_s, verify):
