@@ -382,3 +382,27 @@ def test_blade_damper_orbit_general_path():
     Y = np.hstack([res.q[idx], res.qd[idx]])
     d = np.max(np.abs(Y - orbit.y0) / scale, axis=1)
     assert d.max() < 1e-6
+
+
+def test_unstable_orbit_is_left_by_time_integration():
+    """The converse of the previous test: with negative viscous damping (2 zeta = -0.1, a
+    flutter-like energy source) den Hartog's orbit at r = 0.8, beta = 0.3 has |mu| = 1.06 > 1.
+    Event-driven integration started on it with a 1e-10 perturbation leaves it at that rate
+    (least-squares slope of log distance over periods 5-150, to 2 %), and shooting says
+    unstable."""
+    cs = oscillator(0.8, 0.3, damping=-0.1)
+    T = 2 * np.pi / 0.8
+    orbit = shoot(cs, T, period_multiple=1)
+    assert orbit.success and not orbit.stable
+    rho = np.abs(orbit.multipliers).max()
+    assert rho > 1.02
+    te = T * np.arange(151)
+    y0 = orbit.y0 * (1 + 1e-10)
+    res = simulate_events(cs, (0.0, te[-1]), y0, t_eval=te)
+    idx = np.array([np.flatnonzero(res.t == t)[-1] for t in te])
+    Y = np.hstack([res.q[idx], res.qd[idx]])
+    dist = np.max(np.abs(Y - orbit.y0), axis=1) / np.abs(orbit.y0).max()
+    assert dist[-1] > 1e3 * dist[0]
+    k = np.arange(5, 151)
+    slope = np.polyfit(k, np.log(dist[k]), 1)[0]
+    assert abs(np.exp(slope) - rho) < 0.02 * rho
