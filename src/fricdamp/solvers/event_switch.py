@@ -303,18 +303,31 @@ class LinearDecider:
         self.absWt = np.abs(lf.tangent.T)
         #: switches with several equally valid configurations (see decide_modes)
         self.ambiguities: list = []
+        self._projectors: dict = {}
 
     def tangent_velocity(self, t, q, qd):
         return self.lf.tangent.T @ qd, self.absWt @ np.abs(qd)
 
+    def projector(self, stuck) -> np.ndarray:
+        """``M^-1 W_S (W_S^T M^-1 W_S)^+ W_S^T`` for the stuck set (bool mask), cached: the
+        velocity part removed by the M-orthogonal projection (n_dof, n_dof)."""
+        key = np.asarray(stuck, dtype=bool).tobytes()
+        P = self._projectors.get(key)
+        if P is None:
+            S = np.flatnonzero(stuck)
+            P = self.MinvW[:, S] @ np.linalg.pinv(self.Del[np.ix_(S, S)], rcond=1e-12) @ \
+                self.lf.tangent[:, S].T
+            if len(self._projectors) > 256:
+                self._projectors.clear()
+            self._projectors[key] = P
+        return P
+
     def project(self, t, q, qd, modes):
         """M-orthogonal velocity projection onto the stuck constraints (see Evaluator)."""
-        S = np.flatnonzero(modes == STICK)
-        if S.size == 0:
+        stuck = modes == STICK
+        if not stuck.any():
             return q, qd, 0.0
-        lam = np.linalg.lstsq(self.Del[np.ix_(S, S)], self.lf.tangent[:, S].T @ qd,
-                              rcond=1e-12)[0]
-        qd_new = qd - self.MinvW[:, S] @ lam
+        qd_new = qd - self.projector(stuck) @ qd
         M = self.lf.M
         return q, qd_new, abs(0.5 * qd @ M @ qd - 0.5 * qd_new @ M @ qd_new)
 

@@ -137,11 +137,6 @@ class _Linearizer:
         self.rtol, self.atol = rtol, atol
         #: transition of the last phase over whole DOP853 steps (error estimate)
         self.coarse = None
-        if self.linear:
-            lf = run.lf
-            self.Minv = np.linalg.inv(lf.M)
-            self.MinvW = self.Minv @ lf.tangent
-            self.Del = lf.tangent.T @ self.MinvW
 
     # -------------------------------------------------------------- vector fields
     def field(self, t, y, modes, sigma):
@@ -176,11 +171,9 @@ class _Linearizer:
         if stuck_extra is not None:
             modes = np.where(stuck_extra, STICK, modes)
         if self.linear:
-            S = np.flatnonzero(modes == STICK)
             P = np.eye(2 * n)
-            if S.size:
-                W = self.run.lf.tangent[:, S]
-                P[n:, n:] -= self.MinvW[:, S] @ np.linalg.pinv(self.Del[np.ix_(S, S)]) @ W.T
+            if (modes == STICK).any():
+                P[n:, n:] -= self.run.decider.projector(modes == STICK)
             return P
         if not (self.ev.constrained.any() or (modes == STICK).any()):
             return np.eye(2 * n)
@@ -278,16 +271,23 @@ class _Linearizer:
 _CONFIGS: dict[int, tuple] = {}
 
 
-def _config_cache(lf) -> dict:
-    """The LinearConfig cache of a LinearForm (kept while the form lives)."""
+def _share_caches(run) -> None:
+    """Give ``run`` the LinearConfig cache and the switching decider (with its projector
+    cache) of its LinearForm, kept while the form lives: the many flows of one shooting
+    problem then build each configuration once."""
+    lf = run.lf
     entry = _CONFIGS.get(id(lf))
-    if entry is None or entry[0]() is not lf:
+    if entry is None or entry[0]() is not lf or not (
+            np.array_equal(entry[2].mu_s, run.decider.mu_s)
+            and np.array_equal(entry[2].mu_d, run.decider.mu_d)):
         if len(_CONFIGS) > 64:
-            for key in [k for k, (ref, _) in _CONFIGS.items() if ref() is None]:
+            for key in [k for k, e in _CONFIGS.items() if e[0]() is None]:
                 del _CONFIGS[key]
-        entry = (weakref.ref(lf), {})
+        entry = (weakref.ref(lf), {}, run.decider)
         _CONFIGS[id(lf)] = entry
-    return entry[1]
+    run.configs = entry[1]
+    run.decider = entry[2]
+    run.decider.ambiguities = []
 
 
 def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "auto",
@@ -331,8 +331,8 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
     te = np.array([t0, t1]) if t_eval is None else np.asarray(t_eval, float)
     wall = _time.perf_counter()
     run = _Run(system, lf, t0, t1, te, rtol, atol, max_step)
-    if lf is not None:  # the phases' configurations are shared by the flows of one system
-        run.configs = _config_cache(lf)
+    if lf is not None:
+        _share_caches(run)
     run.trace = []
     run.with_energy = False
     run.start(y[:n], y[n:])
