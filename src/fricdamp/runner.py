@@ -287,18 +287,29 @@ class AnalysisOutput:
 def default_verdict(out: AnalysisOutput) -> Verdict:
     """The verdict of an analysis that gives none: from what its summary reports.
 
-    ``failed`` if the summary says ``success = false``; ``unreliable`` if its
-    ``energy_balance_error`` exceeds :data:`fricdamp.verdict.THRESHOLDS`; ``ok`` otherwise.
-    The estimates are the summary's ``energy_balance_error`` (if any).
+    ``failed`` if the summary says ``success = false``, else ``ok``. The summary's
+    ``energy_balance_error`` (if any) is recorded as an estimate; above the limit of
+    :data:`fricdamp.verdict.THRESHOLDS` it is flagged in the estimates
+    (``energy_balance_over_limit``) and in a note, but it does not change the verdict: an
+    analysis that knows what its energy balance means for its numbers sets its own verdict.
     """
+    from fricdamp.verdict import THRESHOLDS
+
     est = {}
     ebe = out.summary.get("energy_balance_error")
     if isinstance(ebe, (int, float)) and not isinstance(ebe, bool):
         est["energy_balance_error"] = float(ebe)
+        if float(ebe) > THRESHOLDS["energy_balance_error"]:
+            est["energy_balance_over_limit"] = True
+            note = (f"energy balance error {float(ebe):.3g} exceeds the limit "
+                    f"{THRESHOLDS['energy_balance_error']:g} (this analysis does not judge "
+                    "its own results yet: check the time step)")
+            if note not in out.notes:
+                out.notes.append(note)
     failed = None
     if out.summary.get("success") is False:
         failed = str(out.summary.get("message") or "the analysis reports success = false")
-    return judge(est, failed=failed)
+    return judge({}, failed=failed).with_estimates(**est)
 
 
 @dataclass(frozen=True)

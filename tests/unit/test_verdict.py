@@ -231,3 +231,18 @@ def test_contact_that_dissipates_more_than_it_received_is_unreliable():
     v = time_result_verdict(s, res, 1e-4)
     assert res.energy_balance_error > 0.1 and v.status == UNRELIABLE
     assert any(r.startswith("energy balance error") for r in v.reasons)
+
+
+def test_default_verdict_of_an_analysis_without_one():
+    """Analyses that do not judge themselves (the tie-boss wheels') are ok unless they report
+    failure; an energy balance over the limit is recorded and noted, not judged."""
+    from fricdamp.runner import AnalysisOutput, default_verdict
+
+    out = AnalysisOutput(summary={"energy_balance_error": 0.0306})
+    v = default_verdict(out)
+    assert v.status == OK and v.estimates["energy_balance_over_limit"] is True
+    assert any("0.0306 exceeds the limit 0.01" in n for n in out.notes)
+    assert default_verdict(AnalysisOutput(summary={"energy_balance_error": 1e-4})).estimates == {
+        "energy_balance_error": 1e-4}
+    v = default_verdict(AnalysisOutput(summary={"success": False, "message": "diverged"}))
+    assert v.status == FAILED and v.reasons == ("diverged",)
