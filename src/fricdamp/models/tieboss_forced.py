@@ -440,3 +440,55 @@ def release_decay(sector: TiebossSector, nd: int, order: int, *, force_N: float 
             "frequency_hz": None if dec is None else dec.mean_frequency_hz,
             "energy_balance_error": float(out.energy_balance_error),
             "duration_s": duration_s, "dt_s": dt, "runtime_s": float(out.runtime_s)}
+
+
+def standing_wave_peaks(sector: TiebossSector, nd: int, forces_N, *, n_modes: int = 4,
+                        harmonics: int = 3, samples: int = 120,
+                        frequency_range_hz=(43.0, 46.5), step: float = 0.02) -> dict:
+    """Resonance peaks of the wheel under a *standing* ND pattern (the rig's kind of load).
+
+    Blade j carries ``F cos(2 pi nd j / N)`` at the tie-boss along its flexural direction
+    (two counter-rotating waves of ``F / 2``; for the linear wheel its antinode response
+    equals the travelling wave's of ``F``). The assembled Craig-Bampton wheel at rest is
+    solved by the full-wheel HB (a standing state is not a one-sector problem); at each
+    level's peak: the largest blade amplitude (an antinode, probe definition of the module
+    docstring) and ``zeta = (W_visc + W_contact) / (4 pi E_max)`` over the whole wheel.
+
+    Returns
+    -------
+    dict
+        ``nd``, ``amplitude_m``, ``damping_ratio``, ``frequency_hz``, ``force_N`` (sorted by
+        amplitude), ``status``.
+    """
+    from fricdamp.solvers.aft import HarmonicBasis
+    from fricdamp.solvers.hb import frequency_response
+
+    wheel = build_wheel(sector, n_modes=n_modes)
+    d = wheel.sector.flexural_direction
+    probes = wheel.group_dofs_all("probe")
+    syn = HarmonicBasis.create(harmonics, 256).synthesis
+    lo, hi = (2 * np.pi * float(f) for f in frequency_range_hz)
+    M = wheel.system.M
+    rows = []
+    for F in forces_N:
+        ld = wheel_load(wheel, nd, float(F))
+        load = HarmonicLoad(ld.amplitude.real.astype(complex), omega=1.0)
+        fr = frequency_response(replace(wheel.system, loads=(load,)), lo, hi,
+                                harmonics=harmonics, samples=samples, step=step,
+                                max_step=20 * step)
+        if not len(fr.omega):
+            continue
+        sig = np.einsum("pjdh,d,sh->pjs", fr.coefficients[:, probes], d, syn)
+        amp = np.abs(sig - sig.mean(axis=2, keepdims=True)).max(axis=2)
+        p = int(np.argmax(amp.max(axis=1)))
+        if p in (0, len(fr.omega) - 1):
+            continue
+        x1 = fr.coefficients[p][:, 1] - 1j * fr.coefficients[p][:, 2]
+        e_max = 0.5 * fr.omega[p] ** 2 * float(np.real(np.vdot(x1, M @ x1)))
+        w_d = float(fr.dissipated_energy[p].sum() + fr.viscous_dissipation[p])
+        rows.append((float(amp[p].max()), w_d / (4 * np.pi * e_max),
+                     float(fr.omega[p] / (2 * np.pi)), float(F), int(fr.status)))
+    rows.sort()
+    cols = list(zip(*rows, strict=True)) if rows else [[]] * 5
+    return {"nd": int(nd), "amplitude_m": list(cols[0]), "damping_ratio": list(cols[1]),
+            "frequency_hz": list(cols[2]), "force_N": list(cols[3]), "status": list(cols[4])}

@@ -15,7 +15,9 @@ for the baseline wheel and for controlled changes of one ingredient at a time:
   at the tie-boss (the "forcing shape");
 * ``at rest``: the wheel at rest instead of speed-locked at the critical speed;
 * ``tip amplitude``: the same curve read at 0.5 mm of the blade *tip* instead of the
-  contact node (the amplitude definition: where the rig's displacement is taken).
+  contact node (the amplitude definition: where the rig's displacement is taken);
+* ``standing wave``: the rig's kind of load, a standing ND pattern on the assembled wheel
+  (:func:`fricdamp.models.tieboss_forced.standing_wave_peaks`, full-wheel HB, at rest).
 
 Each entry interpolates (log-log) the resonance-peak ratios of a few load levels
 (:func:`fricdamp.models.tieboss_forced.damping_vs_amplitude`) at the amplitude.
@@ -118,6 +120,8 @@ def damping_gap_study(sector: TiebossSector, *, amplitude_m: float = 5e-4, nds=(
                           {"modal": True}),
         "at rest": ("wheel at rest (no stress stiffening / spin softening)", {"rest": True}),
         "tip amplitude": ("the baseline read at 0.5 mm of the blade tip", {"tip": True}),
+        "standing wave": ("the rig's kind of load: F cos(2 pi nd j / N) per blade, full-wheel "
+                          "HB at rest, H = 3, antinode amplitude", {"standing": True}),
     }
     names = list(all_variants) if variants is None else ["baseline", *[
         v for v in variants if v != "baseline"]]
@@ -133,7 +137,14 @@ def damping_gap_study(sector: TiebossSector, *, amplitude_m: float = 5e-4, nds=(
         for nd, o in zip(nds, orders, strict=True):
             forces = [fs * f for f in BASE_FORCES.get(nd, (1.0, 1.5, 2.0, 3.0))]
             key = ("tip" if opt.get("tip") else name, nd)
-            if opt.get("tip"):
+            if opt.get("standing"):
+                from fricdamp.models.tieboss_forced import standing_wave_peaks
+
+                band = {2: (43.0, 46.5), 6: (47.5, 50.5)}.get(nd, (40.0, 52.0))
+                e = standing_wave_peaks(sec, nd, forces, n_modes=n_modes,
+                                        frequency_range_hz=band)
+                z, ok = _zeta_at(e, amplitude_m)
+            elif opt.get("tip"):
                 e = cache[("baseline", nd)]
                 ratio = np.nanmean([r for r in e["tip_ratio"] if r is not None])
                 z, ok = _zeta_at(e, amplitude_m, scale=ratio)
