@@ -10,10 +10,12 @@ Layers (imports point downward only)::
     structure            MechanicalSystem, contact elements, matrix builders and import
     contact              friction and contact laws, vectorised over contacts
 
-Importing fricdamp never imports matplotlib or dask.
+Importing fricdamp never imports matplotlib or dask; the subpackages load their modules on
+first use of a name (``fricdamp.solvers.frequency_response`` imports the harmonic-balance
+modules, not the event-driven or time-stepping ones), and ``__version__`` reads the package
+metadata only when asked (``importlib.metadata`` costs ~0.1 s of CPU).
 """
 
-from fricdamp._version import __version__
 from fricdamp.errors import CaseError, ConvergenceError, FricdampError, ModelError
 
 __all__ = [
@@ -23,3 +25,16 @@ __all__ = [
     "FricdampError",
     "ModelError",
 ]
+
+
+def __getattr__(name: str):
+    if name == "__version__":
+        from fricdamp._version import __version__
+
+        return __version__
+    import importlib
+
+    if name in ("analyses", "analysis", "contact", "models", "solvers", "structure",
+                "studies"):
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module 'fricdamp' has no attribute {name!r}")
