@@ -82,3 +82,59 @@ def test_no_worker_alive_times_out(tmp_path, monkeypatch):
             sweep(raises_at_one, {"x": [0.0]}, client=client, store=tmp_path / "p",
                   fingerprint="noworker")
     assert not list((tmp_path / "p").glob("*.json"))
+
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.mark.slow
+def test_lost_scheduler_ends_the_cli_sweep_in_one_line(tmp_path):
+    """A scheduler killed while the points run: the sweep ends with exit 1 and one line, no
+    distributed traceback on stderr, and the lost points are not stored (about 30 s)."""
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    case = tmp_path / "case.toml"
+    case.write_text('[model]\ntype = "chain"\nmasses_kg = [1.0]\nsprings_N_per_m = [1.0e4]\n'
+                    "[analysis.free_decay]\ninitial_displacement_m = [1.0e-3]\n"
+                    "duration_s = 60.0\ntime_step_s = 5.0e-4\n")
+    port = _free_port()
+    bindir = Path(sys.executable).parent
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "CI": "1"}
+    sched = subprocess.Popen([str(bindir / "dask"), "scheduler", "--port", str(port),
+                              "--no-dashboard"], stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, env=env)
+    worker = None
+    try:
+        time.sleep(3)
+        worker = subprocess.Popen([str(bindir / "dask"), "worker", f"tcp://127.0.0.1:{port}",
+                                   "--nthreads", "1", "--no-dashboard"],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+        time.sleep(3)
+        out = tmp_path / "sw"
+        run = subprocess.Popen([sys.executable, "-m", "fricdamp.cli", "sweep", str(case),
+                                "--grid", "model.springs_N_per_m.1=1e4:2e4:3", "--scheduler",
+                                f"tcp://127.0.0.1:{port}", "--out", str(out)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env=env)
+        time.sleep(8)
+        sched.send_signal(signal.SIGKILL)
+        _, err = run.communicate(timeout=180)
+    finally:
+        for p in (sched, worker):
+            if p is not None and p.poll() is None:
+                p.kill()
+                p.wait()
+    assert run.returncode == 1, err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "lost" in lines[0] and "not stored" in lines[0], err
+    assert not list((out / "points").glob("*.json"))

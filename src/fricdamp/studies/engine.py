@@ -233,7 +233,7 @@ def _run_on_dask(client, fn, jobs, reserved, finish) -> None:
                     except Exception as exc:  # noqa: BLE001 - the task was lost, not the point
                         text = f"{type(exc).__name__}: {exc}".splitlines()[0]
                         lost.append(text if len(text) <= 160 else text[:157] + "...")
-                        log.warning("point %s lost on Dask (%s); not stored", params, exc)
+                        log.info("point %s lost on Dask (%s); not stored", params, exc)
                         continue
                     finish(rec)
                     fut.release()
@@ -254,5 +254,7 @@ def _run_on_dask(client, fn, jobs, reserved, finish) -> None:
             with contextlib.suppress(Exception):
                 client.cancel(pending)
     if lost:
-        raise StudyError(f"{len(lost)} point(s) were lost on Dask (first: {lost[0]}): they are "
-                         "not stored as failures; rerun the same command to compute them")
+        why = ("the connection to the Dask scheduler was lost"
+               if any("scheduler-connection-lost" in x for x in lost) else f"first: {lost[0]}")
+        raise StudyError(f"{len(lost)} point(s) were lost on Dask ({why}): they are not stored "
+                         "as failures; rerun the same command to compute them")
