@@ -186,8 +186,42 @@ def _paths(node, prefix=()):
             yield from _paths(v, (*prefix, i))
 
 
-_BASE_DATA = tomllib.loads(BASE)
-_PATHS = list(_paths(_BASE_DATA))
+BASE_3D = """\
+name = "prop3d"
+[model]
+type = "chain"
+masses_kg = [1.0, 1.0, 1.0]
+springs_N_per_m = [1.0e4, 1.0e4, 1.0e4]
+ground = "first"
+[[contacts]]
+type = "contact3d"
+normal = [1]
+tangential = [[2], [3]]
+normal_stiffness_N_per_m = 1.0e6
+tangential_stiffness_N_per_m = 1.0e5
+mu = 0.3
+preload_N = 10.0
+[[contacts]]
+type = "coulomb"
+between = [2, 3]
+stiffness_N_per_m = 1.0e4
+normal_load_N = 5.0
+mu_static = 0.4
+mu_sliding = 0.3
+[[contacts]]
+type = "cubic_spring"
+dofs = [1]
+k3_N_per_m3 = 1.0e9
+[analysis.hysteresis]
+amplitudes_m = [1.0e-5, 1.0e-4]
+contacts = ["contact2"]
+[analysis.nma]
+amplitude_dof = 1
+amplitudes_m = [1.0e-5, 1.0e-4]
+"""
+
+_BASES = {name: tomllib.loads(text) for name, text in (("1d", BASE), ("3d", BASE_3D))}
+_PATHS = [(name, p) for name, data in _BASES.items() for p in _paths(data)]
 
 
 def _mutate(data, path, op, value):
@@ -212,7 +246,7 @@ def _none_free(v):
     return v is not None
 
 
-@settings(max_examples=120, deadline=None, database=None,
+@settings(max_examples=200, deadline=None, database=None,
           suppress_health_check=[HealthCheck.too_slow])
 @given(path=st.sampled_from(_PATHS), op=st.sampled_from(["replace", "delete", "add"]),
        value=VALUES.filter(_none_free))
@@ -220,7 +254,8 @@ def test_a_mutated_case_is_valid_or_a_clean_case_error(path, op, value):
     from fricdamp.case import parse_case
     from fricdamp.runner import REGISTRY, build_system
 
-    data = _mutate(copy.deepcopy(_BASE_DATA), path, op, value)
+    base, path = path
+    data = _mutate(copy.deepcopy(_BASES[base]), path, op, value)
     try:
         case = parse_case(data, REGISTRY, text=BASE, default_name="prop")
         build_system(case, REGISTRY)
