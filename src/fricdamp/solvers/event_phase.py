@@ -199,6 +199,14 @@ class NumericalPhase:
         # the state's tolerances as given; the work integrals are not step-size controlled
         a = np.broadcast_to(np.asarray(atol, dtype=float), (2 * self.n,))
         self._atol = np.concatenate([a, np.full(3, 1e300)])
+        #: compiled kernels of the system (ConstrainedSystem.compiled_kernels), if any
+        self._ck = getattr(ev, "compiled", None)
+        if self._ck is not None:
+            self._modes_c = np.ascontiguousarray(self.modes, dtype=np.int64)
+            self._lim_c = np.ascontiguousarray(self._lim, dtype=float)
+            self._sgn_c = np.ascontiguousarray(self._sgn, dtype=float)
+            self._kinds_c = np.ascontiguousarray(self.kinds, dtype=np.int64)
+            self._contacts_c = np.ascontiguousarray(self.contacts, dtype=np.int64)
 
     def _solve(self, t, y):
         n = self.n
@@ -209,6 +217,14 @@ class NumericalPhase:
     def _rhs(self, t, y):
         self.n_rhs += 1
         n = self.n
+        if self._ck is not None:
+            out = np.empty(2 * n + 3)
+            if self._ck.rhs(t, y, self._modes_c, self.sigma, out) > self._ck.SINGULAR:
+                if not self._has_power[0]:
+                    out[2 * n] = 0.0
+                if not self._has_power[1]:
+                    out[2 * n + 1] = 0.0
+                return out
         pt, qdd, _, lamT = self._solve(t, y)
         q, qd = y[:n], y[n:2 * n]
         s = self.ev.system
@@ -222,7 +238,23 @@ class NumericalPhase:
         out[2 * n + 2] = lamT @ (pt.WT.T @ qd)
         return out
 
+    def _g_many(self, ts, Y):
+        """Event functions and scales at the columns of Y, (n_ev, n_t) each."""
+        if self._ck is not None:
+            vel = self.vel_scale.copy()
+            r, G, S = self._ck.events_many(ts, np.ascontiguousarray(Y), self._modes_c,
+                                           self.sigma, self._kinds_c, self._contacts_c,
+                                           self._lim_c, self._sgn_c, vel)
+            if r > self._ck.SINGULAR:
+                self.vel_scale = vel
+                return G, S
+        cols = [self._g(t, Y[:, j]) for j, t in enumerate(ts)]
+        return (np.column_stack([g for g, _ in cols]), np.column_stack([c for _, c in cols]))
+
     def _g(self, t, y):
+        if self._ck is not None:
+            G, S = self._g_many(np.array([float(t)]), np.asarray(y, float)[:2 * self.n, None])
+            return G[:, 0], S[:, 0]
         pt, _, lamN, lamT = self._solve(t, y[:2 * self.n])
         gam = pt.WT.T @ pt.qd
         self.vel_scale = np.maximum(self.vel_scale, np.abs(pt.WT).T @ np.abs(pt.qd))
@@ -272,10 +304,9 @@ class NumericalPhase:
             ta, tb = solver.t_old, solver.t
             self.segments.append((ta, tb, interp))
             ts = ta + (tb - ta) * self._interior
-            cols = [self._g(t, interp(t)) for t in ts]
-            G = np.column_stack([g_prev] + [g for g, _ in cols])
-            for _, sc in cols:
-                self._scale = np.maximum(self._scale, sc)
+            Gi, Si = self._g_many(ts, interp(ts))
+            G = np.column_stack([g_prev, Gi])
+            self._scale = np.maximum(self._scale, Si.max(axis=1))
             tt = np.concatenate([[t_prev], ts])
             def gfun(i, t, f=interp):
                 return self._g(t, f(t))[0][i]
@@ -311,6 +342,12 @@ class NumericalPhase:
         n = self.n
         nt = Y.shape[1]
         nc = self.ev.nc
+        if self._ck is not None:
+            ts = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+            r, _, lamN, lamT, _ = self._ck.solve_many(ts, np.ascontiguousarray(Y[:2 * n]),
+                                                      self._modes_c, self.sigma)
+            if r > self._ck.SINGULAR:
+                return Y[:n].T, Y[n:2 * n].T, lamN.T.copy(), lamT.T.copy()
         lamN = np.empty((nt, nc))
         lamT = np.empty((nt, nc))
         for j in range(nt):

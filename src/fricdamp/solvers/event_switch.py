@@ -104,6 +104,9 @@ class Evaluator:
         self.n_singular = 0
         #: switches with several equally valid configurations (see decide_modes)
         self.ambiguities: list = []
+        #: compiled phase kernels of the system (None: the generic path)
+        hook = getattr(system, "compiled_kernels", None)
+        self.compiled = hook() if hook is not None else None
 
     def mass_factor(self, q):
         """A solver ``X -> M(q)^-1 X`` (the explicit inverse is cached for a constant mass)."""

@@ -189,6 +189,21 @@ class ConstrainedSystem(abc.ABC):
         """The system's :class:`LinearForm` when it has one (exact phase integration)."""
         return None
 
+    def compiled_kernels(self):
+        """Compiled configuration kernels for DOP853 phases, or None (the generic path).
+
+        An object with ``rhs(t, y, modes, sigma, out) -> ratio`` (fills ``out`` (2 n_dof + 3,)
+        with ``[q', q'', input power, viscous power, friction power]``),
+        ``solve_many(ts, Y, modes, sigma) -> (ratio, qdd, lambda_N, lambda_T, W_T)`` (columns
+        of Y are states, outputs (n_dof, n_t), (n_c, n_t), (n_c, n_t), (n_dof, n_c, n_t)) and
+        ``events_many(ts, Y, modes, sigma, kinds, contacts, lim, sgn, vel) -> (ratio, G, S)``
+        (event functions and scales of :class:`~fricdamp.solvers.event_phase.NumericalPhase`,
+        (n_ev, n_t)), all with the equations of the generic path; ``ratio`` is the smallest
+        pivot ratio of the constraint solves: at or below ``SINGULAR`` the phase falls back
+        to the generic path (minimum-norm multipliers of redundant constraints).
+        """
+        return None
+
     @property
     def dof_names(self) -> tuple[str, ...]:
         return tuple(f"q{i + 1}" for i in range(self.n_dof))

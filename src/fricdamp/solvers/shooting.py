@@ -142,6 +142,14 @@ class _Linearizer:
     def field(self, t, y, modes, sigma):
         """[q', q''] of configuration ``modes`` at (t, y) (general systems)."""
         n = self.n
+        ck = self.ev.compiled
+        if ck is not None:
+            out = np.empty(2 * n + 3)
+            y2 = np.zeros(2 * n + 3)
+            y2[:2 * n] = y
+            if ck.rhs(t, y2, np.asarray(modes, np.int64), np.asarray(sigma, float),
+                      out) > ck.SINGULAR:
+                return out[:2 * n]
         pt = self.ev.point(t, y[:n], y[n:])
         qdd = self.ev.solve(pt, np.asarray(modes), np.asarray(sigma))[0][:, 0]
         return np.concatenate([y[n:], qdd])
@@ -201,8 +209,16 @@ class _Linearizer:
         # fourth-order Magnus steps on halves of the phase's own DOP853 steps (exact for a
         # constant Jacobian, however fast the motion: the exponential carries it); the
         # product over whole steps is kept in ``coarse`` for the error estimate
+        ck = self.ev.compiled
+        modes_c = np.asarray(rec.modes, np.int64)
+        sigma_c = np.asarray(rec.sigma, float)
+
         def jac(t):
             y = ph.y(np.array([t]))[:2 * n, 0]
+            if ck is not None and hasattr(ck, "jacobian"):
+                ratio, J = ck.jacobian(t, y, modes_c, sigma_c, self._steps(y))
+                if ratio > ck.SINGULAR:
+                    return J
             return self._fd(lambda yy: self.field(t, yy, rec.modes, rec.sigma), y)
 
         def magnus(a, b):
