@@ -92,6 +92,10 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
+#: Chord steps in the continuation corrector (see :func:`solve_and_continue`); a module
+#: switch so that benchmarks and tests can run the Newton corrector as the reference path.
+REUSE_FACTORIZATION = False
+
 
 # ============================================================================ drivers
 def _scales(s: _Setup, form, omegas) -> tuple[float, float]:
@@ -420,7 +424,7 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
             ds_max=max_step if max_step is not None else 5.0 * step,
             x_scale=1.0, lam_scale=abs(lam1 - lam0), tol=tol,
             max_steps=max_points, max_angle_deg=max_angle_deg, test_functions=stability,
-            blas=None)
+            reuse_factorization=REUSE_FACTORIZATION, blas=None)
         n_p = cres.n_points
         omegas = cres.lam if param == "omega" else np.full(n_p, omega0)
         scales = np.ones(n_p) if param == "omega" else cres.lam.copy()
@@ -437,7 +441,7 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
                         bifurcations=bs.bifurcations, stability_error=bs.exponent_error,
                         stability_converged=bs.verdict_agrees)
         wall = time.perf_counter() - t0
-    pp = _postprocess(s, X, omegas, load_scale=scales)
+    pp = _postprocess_in_blocks(s, X, omegas, scales)
     fund = np.hypot(X[:, :, 1], X[:, :, 2])
     err = _balance_error(pp["W_ext"], pp["W_visc"] + pp["W_contact"].sum(axis=1), pp["E_kin"])
     return FrequencyResponse(
@@ -446,6 +450,24 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
         cres.status, cres.message, s.H, s.basis.samples, _method_name(form), wall,
         cres.n_evaluations, cres.n_factorizations, system.names, s.contact_names, scales,
         param, **stab)
+
+
+def _postprocess_in_blocks(s: _Setup, X, omegas, scales, max_bytes: float = 16e6):
+    """:func:`_postprocess` of a curve, a block of points at a time.
+
+    The peak amplitudes are searched on a 128-phase grid of every DOF of every point: for
+    the ring of 480 contacts and its 670 points that grid alone is 330 MB at once; blocks of
+    at most ``max_bytes`` keep it in cache and bound the memory (same results).
+    """
+    n_p = X.shape[0]
+    per_point = 8.0 * 128 * max(X.shape[1], 1) * 2
+    block = max(1, int(max_bytes // per_point))
+    if n_p <= block:
+        return _postprocess(s, X, omegas, load_scale=scales)
+    parts = [_postprocess(s, X[i:i + block], omegas[i:i + block],
+                          load_scale=scales[i:i + block]) for i in range(0, n_p, block)]
+    return {k: (None if parts[0][k] is None else np.concatenate([p[k] for p in parts]))
+            for k in parts[0]}
 
 
 def engine_order_load(n_sectors: int, engine_order: int, amplitude: float, *,
