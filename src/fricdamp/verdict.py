@@ -20,6 +20,13 @@ Estimates and their thresholds (:data:`THRESHOLDS`):
     period: 40 %). The modes are those of the linear part (contacts open): a stuck contact
     stiffens the structure, so this is a lower bound of the error of the stuck motion; the
     energy balance covers the integration of the contact forces.
+``step_doubling_error`` (``free_decay``, ``forced_response``), limit 2e-2
+    The run is repeated with twice the step; for a second-order rule the error of the run is
+    about a third of the difference (Richardson). Compared is what does not depend on the
+    phase: the mechanical-energy history of a free decay (relative to its largest value), the
+    amplitudes of the last period of a forced response (relative to the largest). It sees the
+    time-step error of the contact forces too (stick-slip transitions between samples). The
+    limit is the response accuracy used for harmonic truncation below.
 ``harmonic_truncation`` (harmonic balance), limit 2e-2
     Largest relative change of the amplitudes, and of the energy dissipated per cycle, when
     the peak point is solved again with more harmonics (``H -> min(2H + 1, H + 10)``). A
@@ -65,6 +72,7 @@ _RANK = {OK: 0, UNRELIABLE: 1, FAILED: 2}
 THRESHOLDS: dict[str, float] = {
     "energy_balance_error": 1e-2,
     "period_error": 1e-2,
+    "step_doubling_error": 2e-2,
     "harmonic_truncation": 2e-2,
     "aft_sampling_error": 1e-2,
     "negative_dissipation": 1e-6,
@@ -74,6 +82,7 @@ THRESHOLDS: dict[str, float] = {
 _ADVICE = {
     "energy_balance_error": "reduce the time step, or soften the contact stiffness",
     "period_error": "reduce the time step",
+    "step_doubling_error": "reduce the time step (steps per period)",
     "harmonic_truncation": "H too small: increase harmonics",
     "aft_sampling_error": "increase samples",
     "negative_dissipation": "the contact forces are not integrated right: reduce the time step",
@@ -285,12 +294,14 @@ def _dissipation_estimate(energy: Mapping) -> float:
     return max(0.0, -lowest / scale)
 
 
-def time_result_verdict(system, result, dt: float, *, reasons=()) -> Verdict:
+def time_result_verdict(system, result, dt: float, *, reasons=(),
+                        estimates: Mapping | None = None) -> Verdict:
     """The verdict on a time history from :func:`fricdamp.solvers.timestep.simulate`.
 
     Estimates: ``energy_balance_error``, ``period_error`` (:func:`time_step_error`) with
-    ``max_frequency_hz`` and ``steps_per_period``, and ``negative_dissipation``. A run that
-    stopped early (``status != 0``) is ``failed``.
+    ``max_frequency_hz`` and ``steps_per_period``, and ``negative_dissipation``, plus the
+    caller's ``estimates`` (e.g. ``step_doubling_error``), all judged against
+    :data:`THRESHOLDS`. A run that stopped early (``status != 0``) is ``failed``.
     """
     est = {"energy_balance_error": float(result.energy_balance_error)}
     try:
@@ -299,6 +310,7 @@ def time_result_verdict(system, result, dt: float, *, reasons=()) -> Verdict:
         est["period_error"] = None
         reasons = (*reasons, f"the time-step error could not be estimated ({exc})")
     est["negative_dissipation"] = _dissipation_estimate(result.energy)
+    est.update(estimates or {})
     failed = None
     if not result.success:
         failed = f"the integration stopped at t = {float(result.t[-1]):.6g} s: {result.message}"

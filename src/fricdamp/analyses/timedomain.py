@@ -134,7 +134,9 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
                    save_every=spec.save_every, **ctx.simulate_kwargs())
     if not res.success:
         raise ConvergenceError(res.message)
-    verdict = time_result_verdict(sys_, res, spec.time_step_s)
+    sd = _step_doubling_decay(sys_, res, spec, q0, v0, ctx)
+    verdict = time_result_verdict(sys_, res, spec.time_step_s,
+                                  estimates={"step_doubling_error": sd})
 
     notes = []
     x = res.q[:, dof]
@@ -206,6 +208,54 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes, verdict=verdict)
+
+
+def _coarse_kwargs(ctx: RunContext) -> dict:
+    kw = ctx.simulate_kwargs()
+    kw.update(progress=False, throw=False)
+    return kw
+
+
+def _step_doubling_decay(sys_, res, spec: FreeDecay, q0, v0, ctx) -> float | None:
+    """Richardson estimate of the time-step error of a free decay: the mechanical-energy
+    history at 2 dt against dt, a third of the largest difference relative to the largest
+    energy (None if the coarse run fails)."""
+    from fricdamp.solvers.timestep import simulate
+
+    coarse = simulate(sys_, spec.duration_s, 2 * spec.time_step_s, q0=q0, v0=v0,
+                      **_coarse_kwargs(ctx))
+    if not coarse.success:
+        return None
+    e_f, e_c = _mechanical_energy(res.energy), _mechanical_energy(coarse.energy)
+    k = np.arange(e_f.size)
+    idx = k * spec.save_every
+    common = idx % 2 == 0
+    j = idx[common] // 2
+    ok = j < e_c.size
+    diff = np.abs(e_f[common][ok] - e_c[j[ok]])
+    scale = float(np.max(np.abs(e_f)))
+    if diff.size == 0 or scale == 0:
+        return None
+    return float(np.max(diff) / (3.0 * scale))
+
+
+def _step_doubling_forced(sys_, spec: ForcedResponse, amp, ctx) -> float | None:
+    """Richardson estimate of the time-step error of a forced response: the amplitudes of the
+    last period at steps_per_period / 2, a third of the largest difference relative to the
+    largest amplitude (None for an odd steps_per_period or a failed coarse run)."""
+    from fricdamp.solvers.timestep import simulate
+
+    N = spec.steps_per_period
+    if N % 2 or N < 8:
+        return None
+    period = 1.0 / spec.frequency_hz
+    coarse = simulate(sys_, spec.periods * period, 2 * period / N, **_coarse_kwargs(ctx))
+    if not coarse.success:
+        return None
+    q = coarse.q[coarse.t.size - N // 2 - 1:]
+    amp_c = 0.5 * (q.max(axis=0) - q.min(axis=0))
+    scale = float(np.max(amp))
+    return float(np.max(np.abs(amp - amp_c)) / (3.0 * scale)) if scale > 0 else None
 
 
 def _identify_decay(t, x):
@@ -350,9 +400,10 @@ def run_forced_response(system, spec: ForcedResponse, ctx: RunContext) -> Analys
         k, v = next(iter(negative.items()))
         reasons.append(f"contact {k!r} gives energy back over the last period ({v:.3g} J): "
                        "a passive contact cannot; reduce the time step")
-    verdict = time_result_verdict(sys_, res, period / N, reasons=reasons)
-    verdict = verdict.with_estimates(steady_state_change=change,
-                                     cycle_energy_balance_error=cycle_err)
+    sd = _step_doubling_forced(sys_, spec, amp, ctx)
+    verdict = time_result_verdict(sys_, res, period / N, reasons=reasons, estimates={
+        "step_doubling_error": sd, "steady_state_change": change,
+        "cycle_energy_balance_error": cycle_err})
     summary["period_error"] = verdict.estimates.get("period_error")
     names = list(system.names)
     arrays = {
