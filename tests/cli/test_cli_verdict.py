@@ -343,3 +343,16 @@ def test_forced_response_with_too_few_steps_is_caught_by_step_doubling(cli, writ
     true = float(np.max(np.abs(a - a_ref)) / np.max(a_ref))
     print(f"step doubling {est:.3g}, true {true:.3g}")
     assert true > 0.02 and est / 3 < true < 3 * est, (true, est)
+
+
+def test_nonlinear_mode_with_one_harmonic_is_h_too_small(cli, write_case, tmp_path):
+    """The beam's nonlinear mode with H = 1: the damping ratios change by 2.9 % with H = 3
+    (unreliable, exit 3); the example's H = 7 is ok (see test_frf_with_one_harmonic...)."""
+    nma = BEAM[: BEAM.index("[analysis.frf]")] + BEAM[BEAM.index("[analysis.nma]"):]
+    out = tmp_path / "out"
+    code, _, err = cli("run", write_case(replace_once(nma, "harmonics = 7", "harmonics = 1")),
+                       "--out", out, "--no-progress")
+    assert code == 3, err
+    v = _summary(out)["verdict"]["analyses"]["nma"]
+    assert v["estimates"]["harmonic_truncation"] > 0.02
+    assert any("H too small" in r for r in v["reasons"])

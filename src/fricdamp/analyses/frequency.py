@@ -311,9 +311,32 @@ def run_nma(system, spec: NMA, ctx: RunContext) -> AnalysisOutput:
                                               f"{res.harmonics})")
         return [("nma.png", "Nonlinear mode: damping ratio and frequency vs amplitude", fig)]
 
-    verdict = judge({"energy_balance_error": summary["energy_balance_error"]}, failed=failed)
+    trunc, reasons = _nma_truncation(system, spec, res)
+    summary["harmonic_truncation"] = trunc
+    verdict = judge({"energy_balance_error": summary["energy_balance_error"],
+                     "harmonic_truncation": trunc}, reasons=reasons, failed=failed)
     return AnalysisOutput(summary=summary, arrays={"modes": res.to_xarray()}, figures=figures,
                           headline=headline, notes=notes, verdict=verdict)
+
+
+def _nma_truncation(system, spec: NMA, res) -> tuple[float | None, list[str]]:
+    """Largest relative change of the frequency and damping ratio over the computed
+    amplitudes when the mode is computed again with ``min(2H + 1, H + 10)`` harmonics."""
+    from fricdamp.solvers.nma import nonlinear_modes
+
+    H2 = min(2 * res.harmonics + 1, res.harmonics + 10)
+    amps = np.asarray(res.amplitude, float)
+    more = nonlinear_modes(system.with_loads(), spec.mode - 1, amps, harmonics=H2,
+                           amplitude_dof=spec.amplitude_dof - 1)
+    n = min(more.amplitude.size, amps.size)
+    if n == 0 or not more.success:
+        return None, [f"the harmonic truncation check with H = {H2} did not converge "
+                      f"({more.message})"]
+    df = np.abs(more.frequency_hz[:n] - res.frequency_hz[:n]) / np.abs(more.frequency_hz[:n])
+    zeta = np.abs(more.damping_ratio[:n])
+    dz = np.abs(more.damping_ratio[:n] - res.damping_ratio[:n]) / np.maximum(
+        zeta, 1e-12 * np.max(zeta, initial=0.0) + 1e-300)
+    return float(max(np.max(df), np.max(dz))), []
 
 
 register_analysis("frf", FRF, run_frf, check=_check_frf,
