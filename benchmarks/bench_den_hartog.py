@@ -11,7 +11,10 @@ largest |x| over its last forcing period.
 
 Figure: speed ratio (Radau time / event-driven time) for 100 periods; target >= 20 with an
 event-driven error >= 1000x smaller. Also printed: the time of 200 periods (target <= 0.5 s at
-<= 1e-6 error; the table of DESIGN.md quotes Siconos Moreau-Jean at 10.5 s for 2e-4 error).
+<= 1e-6 error). Siconos is quoted, not run (no wheels on PyPI for this Python): Moreau-Jean
+at h = 1e-3, 14 s for 200 periods at 2e-4 error (DESIGN.md "Performance targets"; an earlier
+figure of 10.5 s appears in issue 13), measured by an earlier session, not reproducible here;
+it is never part of a printed ratio.
 Both solvers run in this process with one BLAS thread; times are the best of ``repeats``
 process CPU times (``time.process_time``: robust on a shared machine; equal to wall-clock
 time on an idle one).

@@ -13,8 +13,10 @@ Each ``run()`` returns at least ``name``, ``figure`` (the headline, e.g. "ratio 
 
     PASS  contact_kernel   Jenkins 3e+08 contact-steps/s (ratio 40x ...)  [value 3e+08, ...]
 
-A benchmark whose ``run`` takes a ``quick`` argument (e.g. ``solid_wheel``, ~20 minutes in
-full) runs its smoke-test mode with ``--quick``.
+A result's ``table`` (e.g. the scaling table of ``hb_scaling``: contacts 30 -> 3,000,
+harmonics 5 -> 21) is printed under its line. A benchmark whose ``run`` takes a ``quick``
+argument (e.g. ``solid_wheel``, ~20 minutes in full) runs its smoke-test mode with
+``--quick``.
 
 The exit status is 0 when every selected benchmark ran and met its target, 1 otherwise
 (a benchmark that raises is reported as ERROR and the others still run).
@@ -104,6 +106,8 @@ def main(argv=None) -> int:
         print(f"{res['status']:<5} {res['name']:<24} {res['figure']}  "
               f"[value {_fmt(res['value'])}, target {_fmt(res['target'])}, "
               f"{res['seconds']:.1f} s]", flush=True)
+        if res.get("table"):
+            print(res["table"], flush=True)
         if args.verbose:
             for k, v in res.get("details", {}).items():
                 print(f"      {k}: {_fmt(v)}")
