@@ -428,7 +428,18 @@ def _write_html_report(out: Path, summary: dict, point: CasePoint, dims) -> None
                "results": results}
     if failures:
         section["failed_points"] = failures
+    # the study's verdict: the worst of its points' (failed points, then '<analysis>__verdict')
+    worst = {name.removesuffix("__verdict"): r.get("max") for name, r in
+             summary["results"].items() if name.endswith("__verdict")}
+    word = {0: "ok", 1: "unreliable", 2: "failed"}
+    analyses = {name: {"verdict": word.get(int(m or 0), "ok"),
+                       "reasons": ([f"unreliable or failed at some points (max "
+                                    f"{name}__verdict = {int(m)})"] if m else []),
+                       "estimates": {}} for name, m in worst.items()}
+    overall = "failed" if summary["points_failed"] else word.get(
+        int(max((m or 0 for m in worst.values()), default=0)), "ok")
     html_summary = {
+        "verdict": {"overall": overall, "analyses": analyses},
         "fricdamp_version": __version__,
         "case": {"name": f"{point.name} (sweep over {' x '.join(dims)})",
                  "file": point.source, "analysis": {}},

@@ -356,3 +356,16 @@ def test_nonlinear_mode_with_one_harmonic_is_h_too_small(cli, write_case, tmp_pa
     v = _summary(out)["verdict"]["analyses"]["nma"]
     assert v["estimates"]["harmonic_truncation"] > 0.02
     assert any("H too small" in r for r in v["reasons"])
+
+
+def test_sweep_of_unreliable_points_exits_3(cli, write_case, tmp_path):
+    """Every point of the 1 Hz oscillator at 2.5 steps per period is unreliable: the sweep
+    writes its results, its report opens with 'unreliable' and it exits with 3."""
+    out = tmp_path / "sw"
+    code, _, err = cli("sweep", write_case(ONE_HZ), "--grid", "duration_s=9:10:2", "--serial",
+                       "--out", out, "--no-progress", "--no-figures")
+    assert code == 3, err
+    assert "unreliable at some points" in _one_line(err)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["results"]["free_decay__verdict"]["max"] == 1.0
+    assert "Verdict: unreliable" in (out / "report.html").read_text()
