@@ -1,0 +1,202 @@
+"""MkDocs hooks of the fricdamp documentation (``hooks:`` in ``mkdocs.yml``).
+
+Three kinds of pages are generated at build time, in memory (nothing is written into the
+source tree):
+
+* ``api/<subpackage>.md`` -- the API reference of each public subpackage: one mkdocstrings
+  entry per name of its ``__all__``, pointing at the module that defines it, so the pages
+  follow the code when modules move (the public import paths are re-exported).
+* ``validation.md`` -- the table of references and tolerances of ``tests/validation``
+  (:mod:`validation_table`).
+* ``gallery/*.md`` -- every ``docs/gallery/*.py`` script is executed; its code cells
+  (separated by ``# %%`` lines), printed output and matplotlib figures make its page. A
+  script that raises (its ``assert`` checks included) fails the build.
+"""
+
+from __future__ import annotations
+
+import ast
+import contextlib
+import importlib
+import io
+import logging
+import time
+from pathlib import Path
+
+from mkdocs.exceptions import PluginError
+from mkdocs.structure.files import File
+
+log = logging.getLogger("mkdocs.hooks.fricdamp")
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _load_validation_table():
+    """The sibling script ``validation_table.py`` (hooks are not on ``sys.path``)."""
+    import importlib.util
+
+    path = Path(__file__).resolve().with_name("validation_table.py")
+    spec = importlib.util.spec_from_file_location("fricdamp_docs_validation_table", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+#: Public subpackages in the API reference: (module, page title, one-line summary).
+API_PACKAGES = [
+    ("fricdamp.contact", "contact", "friction and contact laws"),
+    ("fricdamp.structure", "structure",
+     "mechanical systems, builders, beams, solids, cyclic symmetry"),
+    ("fricdamp.solvers", "solvers",
+     "time stepping, event-driven stick-slip, HB, continuation, modes"),
+    ("fricdamp.analysis", "analysis", "loops, energy, damping, signals, identification"),
+    ("fricdamp.studies", "studies", "sweeps and optimisation, serial or on Dask"),
+    ("fricdamp.models", "models", "the papers' systems"),
+]
+
+
+# ----------------------------------------------------------------------------- API pages
+def _public_names(module) -> list[str]:
+    names = getattr(module, "__all__", None)
+    if names is None:
+        names = [n for n in getattr(module, "_LAZY", {}) if not n.startswith("_")]
+    return list(names)
+
+
+def _defining_module(module, name: str) -> str:
+    obj = getattr(module, name)
+    where = getattr(obj, "__module__", None)
+    if not where or not where.startswith("fricdamp"):
+        where = module.__name__
+    # a name re-exported by its defining module's package keeps the defining module
+    return where
+
+
+def api_page(package: str, title: str, summary: str) -> str:
+    module = importlib.import_module(package)
+    lines = [
+        f"# `{package}`",
+        "",
+        f"*{summary.capitalize()}.*",
+        "",
+        f"::: {package}",
+        "    options:",
+        "      members: false",
+        "      show_root_heading: false",
+        "      show_root_toc_entry: false",
+        "",
+    ]
+    entries = sorted(_public_names(module), key=lambda n: (not n[:1].isupper(), n.lower()))
+    for name in entries:
+        lines += [f"::: {_defining_module(module, name)}.{name}", "    options:",
+                  "      heading_level: 2", "      show_root_full_path: false", ""]
+    return "\n".join(lines)
+
+
+def api_index() -> str:
+    lines = ["# API reference", "",
+             "Generated from the numpydoc docstrings of the public subpackages (their "
+             "`__all__`). Import the names from the subpackage, e.g. "
+             "`from fricdamp.solvers import simulate_events`; the heading of each entry shows "
+             "the module that defines it.", "",
+             "| subpackage | what it holds |", "|---|---|"]
+    for package, title, summary in API_PACKAGES:
+        lines.append(f"| [`{package}`]({title}.md) | {summary} |")
+    return "\n".join(lines) + "\n"
+
+
+# ----------------------------------------------------------------------------- gallery
+def _cells(source: str) -> tuple[str, str, list[str]]:
+    """Title, description (the module docstring) and code cells of a gallery script."""
+    tree = ast.parse(source)
+    doc = ast.get_docstring(tree) or ""
+    body = source
+    if tree.body and isinstance(tree.body[0], ast.Expr) and doc:
+        body = "\n".join(source.splitlines()[tree.body[0].end_lineno:])
+    title, _, rest = doc.partition("\n")
+    rest = rest.lstrip("=\n")
+    cells, current, comments = [], [], []
+    for line in body.splitlines():
+        if line.strip().startswith("# %%"):
+            cells.append(("\n".join(current).strip("\n"), "\n".join(comments)))
+            current, comments = [], []
+            continue
+        if not current and line.startswith("# ") and (comments or not "".join(current)):
+            comments.append(line[2:])
+            continue
+        current.append(line)
+    cells.append(("\n".join(current).strip("\n"), "\n".join(comments)))
+    return title.strip(), rest.strip(), cells
+
+
+def run_gallery_script(path: Path, image_prefix: str):
+    """Execute one script cell by cell; return its Markdown and its figures (name, png)."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    source = path.read_text(encoding="utf-8")
+    title, description, cells = _cells(source)
+    namespace = {"__name__": "__main__", "__file__": str(path)}
+    md = [f"# {title}", "", description, "",
+          f"[Download the script]({path.name}) · run it with `python {path.name}`.", ""]
+    images = []
+    t0 = time.perf_counter()
+    plt.close("all")
+    for code, comment in cells:
+        if comment:
+            md += [comment, ""]
+        if not code.strip():
+            continue
+        out = io.StringIO()
+        try:
+            with contextlib.redirect_stdout(out):
+                exec(compile(code, str(path), "exec"), namespace)  # noqa: S102
+        except Exception as exc:
+            raise PluginError(f"gallery script {path.name} failed: "
+                              f"{type(exc).__name__}: {exc}") from exc
+        md += ["```python", code, "```", ""]
+        if out.getvalue().strip():
+            md += ["```text", out.getvalue().rstrip(), "```", ""]
+        for num in plt.get_fignums():
+            fig = plt.figure(num)
+            buf = io.BytesIO()
+            fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
+            name = f"{image_prefix}_{len(images) + 1}.png"
+            images.append((name, buf.getvalue()))
+            md += [f"![{title}, figure {len(images)}](images/{name})", ""]
+        plt.close("all")
+    elapsed = time.perf_counter() - t0
+    md += [f"*Executed when the documentation was built, in {elapsed:.1f} s.*", ""]
+    return title, "\n".join(md), images
+
+
+def gallery_pages(config, files) -> None:
+    folder = Path(config["docs_dir"]) / "gallery"
+    scripts = sorted(folder.glob("[0-9]*.py"))
+    index = ["# Gallery", "",
+             "Short scripts, each executed when the documentation is built: the output and "
+             "figures below come from that run, and every script checks one number against "
+             "its closed form or its energy balance (a failing check fails the build). "
+             "Download a script from its page and run it as it is.", ""]
+    for path in scripts:
+        stem = path.stem
+        title, md, images = run_gallery_script(path, stem)
+        files.append(File.generated(config, f"gallery/{stem}.md", content=md))
+        for name, png in images:
+            files.append(File.generated(config, f"gallery/images/{name}", content=png))
+        index.append(f"- [{title}]({stem}.md)")
+        log.info("gallery: %s executed", path.name)
+    files.append(File.generated(config, "gallery/index.md", content="\n".join(index) + "\n"))
+
+
+# ----------------------------------------------------------------------------- hooks
+def on_files(files, config):
+    build_table = _load_validation_table().build_table
+    files.append(File.generated(config, "api/index.md", content=api_index()))
+    for package, title, summary in API_PACKAGES:
+        files.append(File.generated(config, f"api/{title}.md",
+                                    content=api_page(package, title, summary)))
+    files.append(File.generated(config, "validation.md", content=build_table()))
+    gallery_pages(config, files)
+    return files
