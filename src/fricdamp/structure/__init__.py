@@ -22,7 +22,7 @@ _LAZY = {
     "CyclicSector": "fricdamp.structure.cyclic",
     "assemble_full": "fricdamp.structure.cyclic",
     "nodal_diameter_modes": "fricdamp.structure.cyclic",
-    "read_sector": "fricdamp.structure.io",
+    "read_sector": "fricdamp.structure.io", "read_ansys_archive": "fricdamp.structure.io",
     "craig_bampton": "fricdamp.structure.reduction",
     "craig_bampton_sector": "fricdamp.structure.reduction",
     "ContactElement": "fricdamp.structure.system",

@@ -167,12 +167,15 @@ def _check_sets(name: str, sets: Mapping[str, Sequence[int]], n: int) -> dict[st
 
 # ---------------------------------------------------------------------------- meshio
 def read_mesh(path) -> SolidMesh:
-    """Read a volume mesh with meshio (gmsh ``.msh``, Abaqus ``.inp``, ``.vtu``, ...).
+    """Read a volume mesh with meshio (gmsh ``.msh``, Abaqus ``.inp``, ``.vtu``, ...), or an
+    ANSYS archive (``.cdb``) with ``ansys-mapdl-reader``
+    (:func:`fricdamp.structure.io.read_ansys_archive`: node and element components become
+    the named sets, points are laid out by ANSYS node number).
 
     Parameters
     ----------
     path : str or path-like
-        Mesh file; the format is chosen by meshio from the extension.
+        Mesh file; the format is chosen from the extension.
 
     Returns
     -------
@@ -189,6 +192,10 @@ def read_mesh(path) -> SolidMesh:
     path = Path(path)
     if not path.is_file():
         raise ModelError(f"mesh file {path} does not exist")
+    if path.suffix.lower() == ".cdb":
+        from fricdamp.structure.io import read_ansys_archive
+
+        return read_ansys_archive(path)
     try:
         m = meshio.read(path)
     except Exception as exc:  # noqa: BLE001 - meshio raises many types

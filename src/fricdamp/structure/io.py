@@ -5,6 +5,9 @@
   reference from an ANSYS ``.full`` file, through the maintained reader library
   ``ansys-mapdl-reader`` (an optional dependency: it pulls VTK and PyVista, so it is not
   installed with fricdamp; ``pip install ansys-mapdl-reader`` to use it).
+* :func:`read_ansys_archive` — a solid mesh with its node and element components from an
+  ANSYS archive (``.cdb``, APDL ``CDWRITE``), through the same library; meshio does not
+  read archives. :func:`~fricdamp.structure.solid.read_mesh` calls it for ``.cdb`` files.
 * :func:`read_sector` — a :class:`~fricdamp.structure.cyclic.CyclicSector` from a user's
   sector matrices, with the left/right cut DOFs and the contact nodes named, so a real FE
   model runs the same pipeline as the built-in models (cyclic modes, Craig–Bampton,
@@ -79,12 +82,134 @@ def _import_mapdl_reader():
         from ansys.mapdl import reader
     except ImportError as exc:
         raise ModelError(
-            "reading ANSYS .full files needs the optional package ansys-mapdl-reader "
+            "reading ANSYS .full and .cdb files needs the optional package ansys-mapdl-reader "
             "(it brings VTK and PyVista): pip install ansys-mapdl-reader. Alternatively "
             "export the matrices from ANSYS as Matrix Market files (APDL: *SMAT with "
             "IMPORT,FULL, then *EXPORT with format MMF) and pass their paths as M= and K="
         ) from exc
     return reader
+
+
+#: VTK cell types of ANSYS archive elements -> meshio names (solids and the surface and
+#: line elements whose components may name node sets, e.g. CONTA174 contact surfaces).
+_VTK_TO_MESHIO = {1: "vertex", 3: "line", 5: "triangle", 9: "quad", 10: "tetra",
+                  12: "hexahedron", 13: "wedge", 14: "pyramid", 21: "line3", 22: "triangle6",
+                  23: "quad8", 24: "tetra10", 25: "hexahedron20", 26: "wedge15",
+                  27: "pyramid13"}
+
+#: Largest ANSYS node number accepted (points are laid out by node number, see below).
+MAX_ARCHIVE_NODE_NUMBER = 50_000_000
+
+
+def read_ansys_archive(path):
+    """A solid mesh from an ANSYS archive file (``.cdb``, written by APDL ``CDWRITE``).
+
+    Read with ``ansys-mapdl-reader`` (``Archive``); the cells keep VTK's node order, which
+    is meshio's (SOLID186 -> ``hexahedron20``, SOLID187 -> ``tetra10``, SOLID185 ->
+    ``hexahedron``; degenerate SOLID185/186 bricks come as wedges or pyramids, which
+    fricdamp does not support: the mesh must be of one element type). Named sets:
+
+    * node components (``CMBLOCK ... NODE``) become point sets;
+    * element components (``CMBLOCK ... ELEM``) become cell sets (materials by region) and
+      point sets of their nodes, so a component of contact or surface elements (CONTA174,
+      SURF154) names the nodes of a contact face;
+    * each material number ``i`` becomes a cell set ``"MAT<i>"``.
+
+    **Points are laid out by ANSYS node number**: point ``k - 1`` is node ``k`` (numbers
+    missing from the archive become unused points, outside every cell), so the 1-based
+    position of a point *is* its ANSYS node number, and the DOF reference of a ``.full``
+    file of the same model maps onto the mesh without translation (see
+    :func:`solid_with_matrices`).
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``.cdb`` file.
+
+    Returns
+    -------
+    SolidMesh
+
+    Raises
+    ------
+    ModelError
+        One line naming the file: missing, unreadable, no supported volume cells, mixed
+        element types, or node numbers above :data:`MAX_ARCHIVE_NODE_NUMBER`.
+    """
+    import meshio
+
+    from fricdamp.structure._solid_mesh import mesh_from_meshio
+
+    p = Path(path)
+    if not p.is_file():
+        raise ModelError(f"mesh file {p} does not exist")
+    reader = _import_mapdl_reader()
+    try:
+        arch = reader.Archive(str(p), parse_vtk=True)
+        grid = arch.grid
+        nnum = np.asarray(grid.point_data["ansys_node_num"], dtype=np.int64)
+        celltypes = np.asarray(grid.celltypes)
+        conn = np.asarray(grid.cell_connectivity, dtype=np.int64)
+        offsets = np.asarray(grid.offset if not hasattr(grid, "cell_offsets")
+                             else grid.cell_offsets, dtype=np.int64)
+        enum = np.asarray(grid.cell_data["ansys_elem_num"], dtype=np.int64)
+        mat = np.asarray(grid.cell_data["ansys_material_type"], dtype=np.int64)
+        node_comps = {str(k): np.asarray(v, dtype=np.int64)
+                      for k, v in arch.node_components.items()}
+        elem_comps = {str(k): np.asarray(v, dtype=np.int64)
+                      for k, v in arch.element_components.items()}
+    except ModelError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - the reader raises many types
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ModelError(f"cannot read ANSYS archive {p}: {msg}") from exc
+    if nnum.size == 0 or celltypes.size == 0:
+        raise ModelError(f"mesh file {p}: the archive holds no nodes or no elements")
+    if nnum.min() < 1 or nnum.max() > MAX_ARCHIVE_NODE_NUMBER:
+        raise ModelError(f"mesh file {p}: node numbers must lie in [1, "
+                         f"{MAX_ARCHIVE_NODE_NUMBER}], got {int(nnum.min())} to "
+                         f"{int(nnum.max())}; compress them first (APDL NUMCMP,NODE)")
+    # points laid out by node number; unused numbers sit on the first node (no cell uses
+    # them, so they carry no DOF and do not move bounding boxes)
+    points = np.repeat(np.asarray(grid.points[:1], dtype=float), int(nnum.max()), axis=0)
+    points[nnum - 1] = np.asarray(grid.points, dtype=float)
+    pos = nnum - 1  # grid point -> mesh point
+    blocks, block_of_cell, index_in_block = [], np.empty(celltypes.size, np.int64), \
+        np.empty(celltypes.size, np.int64)
+    for vtk in np.unique(celltypes):
+        name = _VTK_TO_MESHIO.get(int(vtk))
+        if name is None:
+            raise ModelError(f"mesh file {p}: VTK cell type {int(vtk)} is not supported")
+        idx = np.flatnonzero(celltypes == vtk)
+        npc = int(offsets[idx[0] + 1] - offsets[idx[0]])
+        data = pos[conn[offsets[idx][:, None] + np.arange(npc)]]
+        block_of_cell[idx] = len(blocks)
+        index_in_block[idx] = np.arange(idx.size)
+        blocks.append(meshio.CellBlock(name, data))
+    cell_sets: dict[str, list] = {}
+
+    def add_set(name, cells_mask):
+        per = [[] for _ in blocks]
+        for c in np.flatnonzero(cells_mask):
+            per[block_of_cell[c]].append(index_in_block[c])
+        cell_sets[name] = [np.asarray(x, dtype=np.int64) for x in per]
+
+    for name, elems in elem_comps.items():
+        add_set(name, np.isin(enum, elems))
+    for m in np.unique(mat):
+        add_set(f"MAT{int(m)}", mat == m)
+    point_sets = {name: nodes[(nodes >= 1) & (nodes <= points.shape[0])] - 1
+                  for name, nodes in node_comps.items()}
+    for name, nodes in node_comps.items():
+        missing = np.setdiff1d(nodes, nnum)
+        if missing.size:
+            raise ModelError(f"mesh file {p}: node component {name!r} names node "
+                             f"{int(missing[0])}, which the archive does not define")
+    m = meshio.Mesh(points, blocks, point_sets=point_sets, cell_sets=cell_sets)
+    try:
+        return mesh_from_meshio(m)
+    except ModelError as exc:
+        raise ModelError(f"mesh file {p}: {exc}") from exc
 
 
 def read_ansys_full(path) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
