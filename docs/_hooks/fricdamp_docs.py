@@ -20,6 +20,7 @@ import contextlib
 import importlib
 import io
 import logging
+import re
 import time
 from pathlib import Path
 
@@ -62,6 +63,11 @@ def _public_names(module) -> list[str]:
     return list(names)
 
 
+#: Short and public names -> identifier of the rendered object (filled by the API pages),
+#: used to turn the docstrings' Sphinx roles into links.
+IDENTIFIERS: dict[str, str] = {}
+
+
 def _defining_module(module, name: str) -> str:
     obj = getattr(module, name)
     where = getattr(obj, "__module__", None)
@@ -87,7 +93,10 @@ def api_page(package: str, title: str, summary: str) -> str:
     ]
     entries = sorted(_public_names(module), key=lambda n: (not n[:1].isupper(), n.lower()))
     for name in entries:
-        lines += [f"::: {_defining_module(module, name)}.{name}", "    options:",
+        ident = f"{_defining_module(module, name)}.{name}"
+        for alias in (name, f"{package}.{name}", ident):
+            IDENTIFIERS.setdefault(alias, ident)
+        lines += [f"::: {ident}", "    options:",
                   "      heading_level: 2", "      show_root_full_path: false", ""]
     return "\n".join(lines)
 
@@ -188,6 +197,29 @@ def gallery_pages(config, files) -> None:
         index.append(f"- [{title}]({stem}.md)")
         log.info("gallery: %s executed", path.name)
     files.append(File.generated(config, "gallery/index.md", content="\n".join(index) + "\n"))
+
+
+# ----------------------------------------------------------------------------- roles
+#: Sphinx roles as they come out of a numpydoc docstring rendered by mkdocstrings
+#: (``:func:`name``` -> ``:func:<code>name</code>``).
+_ROLE = re.compile(r":(?:py:)?(?:class|func|meth|mod|attr|data|exc|obj):<code>(~?)([^<]+?)</code>")
+
+
+def _role_link(match: re.Match) -> str:
+    """An optional autorefs cross-reference: a link where the target is rendered, else
+    plain code (no warning)."""
+    tilde, target = match.group(1), match.group(2).strip()
+    name = target.rstrip("()")
+    title = name.rsplit(".", 1)[-1] if tilde else name
+    head, _, rest = name.partition(".")
+    ident = IDENTIFIERS.get(name) or (                 # Class.method -> module.Class.method
+        f"{IDENTIFIERS[head]}.{rest}" if rest and head in IDENTIFIERS else name)
+    return f'<autoref identifier="{ident}" optional><code>{title}</code></autoref>'
+
+
+def on_page_content(html, page, config, files):
+    """Docstrings use Sphinx roles (``:func:`simulate```); render them as links."""
+    return _ROLE.sub(_role_link, html)
 
 
 # ----------------------------------------------------------------------------- hooks
