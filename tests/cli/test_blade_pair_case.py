@@ -173,8 +173,10 @@ def test_small_run_honours_the_contract(cli, write_case, tmp_path):
     and the top-level steady_state list with its keys; the figures and the headlines."""
     out = tmp_path / "out"
     code, stdout, err = cli("run", write_case(CASE), "--out", out)
-    assert code == 0, err
     s = json.loads((out / "summary.json").read_text())
+    # exit 3 exactly when the sweep is unreliable (eqlin off HB at a peak, issue 16)
+    sweep_verdict = s["verdict"]["analyses"]["steady_state_sweep"]["verdict"]
+    assert code == (3 if sweep_verdict == "unreliable" else 0), err
     assert s["n_dof"] == 78 and s["model"]["n_dof"] == 78 and s["model"]["type"] == "blade_pair"
 
     c = s["campbell"]
@@ -192,13 +194,28 @@ def test_small_run_honours_the_contract(cli, write_case, tmp_path):
             assert len(e[key]) == 7 and all(len(ab) == 2 for ab in e[key])
         assert len(e["dissipated_energy_J"]) == 7
         assert 0 <= e["energy_balance_error"] < 1e-6
+        # issue 16: HB beside eqlin, ratios, bands; stuck points dissipate exactly 0
+        hb = e["hb"]
+        assert hb["rpm"] == e["rpm"]
+        assert len(hb["tip_amplitude_m"]) == len(hb["dissipated_energy_J"]) == 7
+        assert len(e["eqlin_over_hb_energy"]) == 7
+        assert all(len(b) == 2 and b[0] <= b[1] for b in e["disagreement_band_rpm"])
+        both = (np.array(e["stuck_A"]) & np.array(e["stuck_B"])
+                & np.array(e["rotation_stuck_A"]) & np.array(e["rotation_stuck_B"]))
+        assert all(w == 0.0 for w, b in zip(e["dissipated_energy_J"], both, strict=True) if b)
+        assert all(a == [0.0, 0.0] for a, st in zip(e["semi_axes_A_m"], e["stuck_A"],
+                                                    strict=True) if st)
+    assert ss[0]["hb"]["success"] == [True] * 7
+    # gross slip at 390 rpm (k = 30, f = 0.05): HB and eqlin within 10 %
+    i = ss[0]["rpm"].index(400.0)
+    assert abs(ss[0]["eqlin_over_hb_energy"][i] - 1) < 0.1
     sec = s["steady_state_sweep"]
     assert sec["energy_balance_error"] == max(e["energy_balance_error"] for e in ss)
     assert s["energy_balance_error"] == sec["energy_balance_error"]
     assert set(sec["peaks"]) == {"k30_f0.05", "k30_f0.3"}
     assert set(s["files"]["figures"]) == {
         "campbell.png", "campbell_damping.png", "semi_axes.png", "inclination.png",
-        "dissipated_energy.png", "orbits_k30.png"}
+        "dissipated_energy.png", "tip_amplitude.png", "orbits_k30.png"}
     assert "campbell: 4 speeds 0-600 rpm" in stdout
     assert "steady_state_sweep: 1 orders x 2 friction coefficients x 7 speeds" in stdout
 

@@ -189,22 +189,36 @@ def test_friction_damping_turns_modes_over_damped(model):
     assert 2 * lit["complex_pairs"][0] + lit["real_eigenvalues"][0] == 156
 
 
-def test_complex_modes_solve_the_quadratic_eigenproblem(model):
+@pytest.mark.parametrize("source", ["linear", "converged"])
+def test_complex_modes_solve_the_quadratic_eigenproblem(model, source):
     """001 Fig. 5 modes at 2000 rpm: (lambda^2 M + lambda D + K) phi = 0 with the friction
-    damping of the steady state (relative residual 1e-9)."""
-    from fricdamp.models.blade_pair_analyses import equivalent_damping_matrix
+    damping of 001 section 4.1 (from the response without friction damping, the default) or
+    of the converged steady state (relative residual 1e-9); shapes normalised on the
+    translations (the largest translational DOF is 1, every rotation may be larger)."""
+    from fricdamp.models.blade_pair_analyses import _condensed, equivalent_damping_matrix
 
-    modes = complex_modes(model, 2000.0, n_modes=3)
-    (_, res, _), = solve_steady_states(model, 30, [2000.0], [0.1])
+    modes = complex_modes(model, 2000.0, n_modes=3, damping_source=source)
     w = rpm_to_rad_s(2000.0)
-    D = model.damping(w) + equivalent_damping_matrix(model, res)[0]
+    if source == "converged":
+        (_, res, _), = solve_steady_states(model, 30, [2000.0], [0.1])
+        Be = equivalent_damping_matrix(model, res)[0]
+    else:
+        cs = _condensed(model, 30, np.array([w]))
+        C = model.friction_damping([w], 0.1).matrix(cs.contact_free, cs.omega, np.arange(1))
+        P = model.friction_projection
+        Be = P.T @ C[0] @ P
+    D = model.damping(w) + Be
     K = model.stiffness(w)
     X = np.array(modes["shapes"])
+    trans = np.array([n.split(".")[-1][0] in "uvw" for n in model.dof_names])
     for j, (re, im) in enumerate(modes["eigenvalues"]):
         lam = re + 1j * im
         phi = X[:, j, 0] + 1j * X[:, j, 1]
         r = (lam**2 * model.M + lam * D + K) @ phi
         assert np.linalg.norm(r) < 1e-9 * np.linalg.norm(K) * np.linalg.norm(phi)
+        assert np.abs(phi[trans]).max() == pytest.approx(1.0, rel=1e-12)
+        assert model.dof_names.index(modes["normalised_on"][j]) == np.argmax(
+            np.abs(phi) * trans)
     assert np.all(np.diff(modes["frequency_hz"]) > 0)
     assert len(modes["blade1"]) == 3 and len(modes["blade1"][0]) == 6
 

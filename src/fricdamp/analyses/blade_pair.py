@@ -49,6 +49,14 @@ from fricdamp.runner import (
 )
 from fricdamp.verdict import judge
 
+
+def crossing_speeds(rpm, frequency_hz, order: int) -> list[float]:
+    """Speeds [rpm] where a Campbell branch meets ``k rpm / 60`` (see
+    :func:`fricdamp.models.blade_pair_analyses.crossing_speeds`)."""
+    from fricdamp.models.blade_pair_analyses import crossing_speeds as _cs
+
+    return _cs(rpm, frequency_hz, order)
+
 __all__ = [
     "BladePairCaseModel",
     "BladePairSpec",
@@ -144,6 +152,10 @@ class BladePairSpec(Section):
         "coulomb", description="equivalent damping on the ellipse axes")
     min_slip_m: Positive = Field(1e-9, le=1e-3, description="slip below which a contact "
                                                             "counts as stuck")
+    tangential_stiffness_N_per_m: Positive | None = Field(
+        None, description="stick stiffness k_t of the contacts in the equivalent-damping law "
+                          "(a Jenkins element: stuck contacts act as springs); none: the "
+                          "paper's law")
     # ---- excitation (001 (3), (10)-(11), Table 1)
     tangential_force_order1_N: NonNegative = Field(20.0, description="F_t^(1) per node: "
                                                    "F^(k) = F^(1)/k outside the table")
@@ -239,7 +251,7 @@ def blade_pair_parameters(spec: BladePairSpec):
         axial_force_order1=spec.axial_force_order1_N,
         excitation_table=tuple(zip(spec.table_orders, spec.table_tangential_force_N,
                                    spec.table_axial_force_N, strict=True)),
-        min_slip=spec.min_slip_m)
+        min_slip=spec.min_slip_m, tangential_stiffness=spec.tangential_stiffness_N_per_m)
 
 
 def _frequencies(K: np.ndarray, M: np.ndarray) -> np.ndarray:
@@ -363,9 +375,9 @@ class CampbellAnalysis(Section):
                                                       "B_e enters (001 Fig. 3: 30)")
     friction_coefficient: NonNegative | None = Field(
         None, description="f of that steady state (default the model's)")
-    damping_source: Literal["converged", "linear"] = Field(
-        "converged", description="B_e from the converged steady state, or from the response "
-                                 "without friction (001 section 4.1 literally)")
+    damping_source: Literal["linear", "converged"] = Field(
+        "linear", description="B_e from the response without friction damping (001 section "
+                              "4.1), or from the converged steady state")
     mode_shapes_speed_rpm: Positive | None = Field(
         None, le=1e5, description="speed of the complex mode shapes (001 Fig. 5: 2000); "
                                   "none if absent")
@@ -429,29 +441,6 @@ def zero_speed_eigenvalues(model, n_modes: int) -> dict:
             "real_eigenvalues": n_real}
 
 
-def crossing_speeds(rpm, frequency_hz, order: int) -> list[float]:
-    """Speeds [rpm] where a branch ``f(rpm)`` [Hz] meets the line ``k rpm / 60``.
-
-    Linear interpolation between grid points where ``f - k rpm / 60`` changes sign (NaN or
-    missing points break the branch).
-    """
-    r = np.asarray(rpm, float)
-    f = np.array([np.nan if v is None else v for v in frequency_hz], float)
-    g = f - order * r / 60.0
-    out = []
-    for i in range(r.size - 1):
-        a, b = g[i], g[i + 1]
-        if not (np.isfinite(a) and np.isfinite(b)):
-            continue
-        if a == 0.0:
-            out.append(float(r[i]))
-        elif a * b < 0.0:
-            out.append(float(r[i] + (r[i + 1] - r[i]) * a / (a - b)))
-    if r.size and np.isfinite(g[-1]) and g[-1] == 0.0:
-        out.append(float(r[-1]))
-    return out
-
-
 def run_campbell(model: BladePairCaseModel, spec: CampbellAnalysis,
                  ctx: RunContext) -> AnalysisOutput:
     """Campbell diagram of the 001 model (:func:`~fricdamp.models.blade_pair_analyses.
@@ -490,7 +479,8 @@ def run_campbell(model: BladePairCaseModel, spec: CampbellAnalysis,
         modes = complex_modes(m, spec.mode_shapes_speed_rpm, n_modes=spec.n_mode_shapes,
                               **opts)
         camp["mode_shapes"] = {"rpm": modes["rpm"], "frequency_hz": modes["frequency_hz"],
-                               "damping_ratio": modes["damping_ratio"]}
+                               "damping_ratio": modes["damping_ratio"],
+                               "normalised_on": modes["normalised_on"]}
 
     F = np.array(camp["frequency_hz"], dtype=float)
     Z = np.array(camp["damping_ratio"], dtype=float)
@@ -512,13 +502,32 @@ def run_campbell(model: BladePairCaseModel, spec: CampbellAnalysis,
             coords={"dof": ("dof", list(obj.names)),
                     "shape": ("shape", np.arange(1, X.shape[1] + 1))})
 
-    first = [c for c in crossings.get(f"k{max(spec.excitation_orders)}", {}).get(
-        "mode1_rpm", [])]
+    # the headline crossing: the one next to the friction-energy peak of the steady state
+    # whose damping enters (the resonance the sweep shows), not merely branch 1's first
+    k_s = spec.steady_state_order
+    r_pos = np.asarray(camp["rpm"], float)
+    r_pos = r_pos[r_pos > 0]
+    cross_k = sorted((c, i + 1) for i, row in enumerate(camp["frequency_hz"])
+                     for c in crossing_speeds(camp["rpm"], row, k_s))
+    peak_rpm = None
+    if spec.friction and r_pos.size >= 2 and f > 0:
+        from fricdamp.models.blade_pair_analyses import steady_state_sweep
+
+        e = steady_state_sweep(m, k_s, r_pos, [f])[0]
+        peak_rpm = float(r_pos[int(np.argmax(e["dissipated_energy_J"]))])
+    camp["steady_state_peak_rpm"] = peak_rpm
+    near = None
+    if cross_k:
+        ref = peak_rpm if peak_rpm is not None else cross_k[0][0]
+        near = min(cross_k, key=lambda cb: abs(cb[0] - ref))
+    camp["peak_crossing"] = ({"rpm": near[0], "branch": near[1], "order": k_s}
+                             if near else None)
     f0 = F[0, 0]
     headline = (f"{len(camp['rpm'])} speeds {rpm[0]:g}-{rpm[-1]:g} rpm, {F.shape[0]} branches"
                 + (f"; first {f0:.4g} Hz at {rpm[0]:g} rpm" if np.isfinite(f0) else "")
-                + (f"; {max(spec.excitation_orders)} Omega meets branch 1 at {first[0]:.0f} rpm"
-                   if first else ""))
+                + (f"; {k_s} Omega meets branch {near[1]} at {near[0]:.0f} rpm" if near else "")
+                + (f", next to the k = {k_s}, f = {f:g} friction-energy peak at "
+                   f"{peak_rpm:.0f} rpm" if near and peak_rpm is not None else ""))
 
     def figures():
         return _campbell_figures(camp, modes, spec)
@@ -595,7 +604,7 @@ def _campbell_figures(camp: dict, modes: dict | None, spec: CampbellAnalysis) ->
                         label=f"{b} Im")
             ax.set_title(f"{modes['frequency_hz'][j]:.1f} Hz, zeta = "
                          f"{modes['damping_ratio'][j]:.3g}", fontsize="small")
-            ax.set_xlabel("w (largest DOF = 1) [-]")
+            ax.set_xlabel("w (largest translation = 1) [-]")
             ax.locator_params(axis="x", nbins=4)
         axes[0, 0].set_ylabel("radius [m]")
         axes[0, 0].legend(fontsize="x-small")
@@ -627,10 +636,31 @@ class SteadyStateSweepAnalysis(Section):
     tolerance: Positive = Field(1e-8, lt=1e-2, description="fixed-point tolerance (relative "
                                                            "change of the orbits)")
     max_iterations: int = Field(2000, ge=1, le=100_000, description="iterations per speed")
+    # ---- the multi-harmonic stick-slip reference beside the equivalent linearisation
+    harmonic_balance: bool = Field(True, description="also solve every speed by HB-AFT "
+                                   "with Jenkins contacts, continued in speed")
+    hb_harmonics: int = Field(5, ge=1, le=30, description="HB harmonics H")
+    hb_samples: int = Field(64, ge=8, le=4096, description="AFT samples per period")
+    hb_tangential_stiffness_N_per_m: Positive = Field(
+        1e8, description="stick stiffness k_t of HB's Jenkins contacts (the model's "
+                         "tangential_stiffness_N_per_m if given)")
+    disagreement_threshold: Positive = Field(0.1, lt=10.0, description="relative eqlin/HB "
+                                             "difference flagged (0.1 = 10 %)")
+    negligible_fraction: NonNegative = Field(1e-3, lt=1.0, description="energies and tip "
+                                             "amplitudes below this fraction of the sweep's "
+                                             "largest are not flagged")
+    normal_load_warning_ratio: Positive = Field(0.5, le=1.0, description="warn where the "
+                                                "normal-force oscillation exceeds this "
+                                                "fraction of the static normal load")
+    crossing_window: int = Field(3, ge=1, le=50, description="grid steps around a peak "
+                                 "searched for Campbell crossings")
 
     @model_validator(mode="after")
     def _check(self):
         _speed_range(self)
+        if self.harmonic_balance and self.hb_samples < 2 * self.hb_harmonics + 1:
+            raise ValueError(f"hb_samples = {self.hb_samples} must be >= 2 hb_harmonics + 1 "
+                             f"= {2 * self.hb_harmonics + 1}")
         if len(set(self.orders)) != len(self.orders):
             raise ValueError(f"orders lists an order twice: {self.orders}")
         fcs = self.friction_coefficients or []
@@ -660,6 +690,8 @@ def _sweep_entries(m, spec: SteadyStateSweepAnalysis, fcs: list) -> tuple[list, 
                                                 max_iter=spec.max_iterations):
             e = _sweep_entry(m, k, rpm, f, res, damp)
             phi = np.abs(res.contact_response[:, [2, 5]])             # rotation amplitudes
+            phi = np.where(np.column_stack([e["rotation_stuck_A"], e["rotation_stuck_B"]]),
+                           0.0, phi)
             e["rotation_amplitude_A_rad"] = phi[:, 0].tolist()
             e["rotation_amplitude_B_rad"] = phi[:, 1].tolist()
             e["torque_arms_m"] = [float(v) for v in m.torque_arms]
@@ -670,40 +702,185 @@ def _sweep_entries(m, spec: SteadyStateSweepAnalysis, fcs: list) -> tuple[list, 
     return entries, raw
 
 
+def _hb_pass(m, spec: SteadyStateSweepAnalysis, entries: list, raw: list) -> dict:
+    """HB beside every eqlin sweep (in place: the entries gain ``hb``, the ratios and the
+    bands); also the eqlin with the stick stiffness of HB (issue 16: does a stick spring
+    move eqlin's stick threshold towards HB's?). Returns timings and counts."""
+    import time
+
+    from fricdamp.models.blade_pair import build_blade_pair
+    from fricdamp.models.blade_pair_analyses import (
+        _sweep_entry,
+        solve_steady_states,
+    )
+    from fricdamp.models.blade_pair_hb import compare_with_hb, hb_entry, hb_speed_sweep
+
+    kt = m.params.tangential_stiffness or spec.hb_tangential_stiffness_N_per_m
+    m_kt = m if m.params.tangential_stiffness else build_blade_pair(
+        m.params.with_(tangential_stiffness=kt))
+    t_hb = t_eq = 0.0
+    n_fail = 0
+    for e, (k, f, res, _) in zip(entries, raw, strict=True):
+        rpm = np.asarray(e["rpm"])
+        fab = np.broadcast_to(np.asarray(f, float), (2,))
+        if not np.all(fab > 0):
+            e["hb"] = None
+            continue
+        t0 = time.perf_counter()
+        if m_kt is m:
+            res_kt, e_kt = res, e
+        else:
+            (_, res_kt, damp_kt), = solve_steady_states(m_kt, k, rpm, [f], tol=spec.tolerance,
+                                                        max_iter=spec.max_iterations)
+            e_kt = _sweep_entry(m_kt, k, rpm, f, res_kt, damp_kt)
+        t1 = time.perf_counter()
+        hb = hb_speed_sweep(m, k, rpm, fab, tangential_stiffness=kt,
+                            harmonics=spec.hb_harmonics, samples=spec.hb_samples,
+                            guide=res_kt.response)
+        t2 = time.perf_counter()
+        t_eq += t1 - t0
+        t_hb += t2 - t1
+        n_fail += int(np.sum(~hb.success))
+        e["hb"] = hb_entry(hb)
+        opts = dict(threshold=spec.disagreement_threshold, negligible=spec.negligible_fraction)
+        cmp_ = compare_with_hb(rpm, e["dissipated_energy_J"], e["tip_amplitude_m"],
+                               hb.dissipated_energy, hb.tip_amplitude.max(axis=1),
+                               hb.success, **opts)
+        e.update(cmp_)
+        if m_kt is not m:
+            c_kt = compare_with_hb(rpm, e_kt["dissipated_energy_J"], e_kt["tip_amplitude_m"],
+                                   hb.dissipated_energy, hb.tip_amplitude.max(axis=1),
+                                   hb.success, **opts)
+            e["eqlin_with_stick_stiffness"] = {
+                "tangential_stiffness_N_per_m": kt,
+                "dissipated_energy_J": e_kt["dissipated_energy_J"],
+                "tip_amplitude_m": e_kt["tip_amplitude_m"],
+                "stuck_A": e_kt["stuck_A"], "stuck_B": e_kt["stuck_B"],
+                "eqlin_over_hb_energy": c_kt["eqlin_over_hb_energy"],
+                "disagreement_band_rpm": c_kt["disagreement_band_rpm"],
+                "disagreement_speeds": int(np.sum(c_kt["disagreement"]))}
+    return {"hb_runtime_s": t_hb, "eqlin_stick_stiffness_runtime_s": t_eq,
+            "hb_failed_speeds": n_fail, "hb_tangential_stiffness_N_per_m": float(kt)}
+
+
+def _stick_agreement(e: dict, other: dict) -> float | None:
+    """Fraction of the speeds (HB converged) where a sweep's stick flags of A and B both
+    agree with HB's."""
+    hb = e.get("hb")
+    if not hb:
+        return None
+    ok = np.asarray(hb["success"], bool)
+    if not ok.any():
+        return None
+    same = ((np.asarray(other["stuck_A"]) == np.asarray(hb["stuck_A"]))
+            & (np.asarray(other["stuck_B"]) == np.asarray(hb["stuck_B"])))
+    return float(np.mean(same[ok]))
+
+
 def run_steady_state_sweep(model: BladePairCaseModel, spec: SteadyStateSweepAnalysis,
                            ctx: RunContext) -> AnalysisOutput:
     """Steady states vs speed (:func:`~fricdamp.models.blade_pair_analyses.
-    solve_steady_states`) for every order and friction coefficient, and the orbits
+    solve_steady_states`) for every order and friction coefficient, HB beside them
+    (:func:`~fricdamp.models.blade_pair_hb.hb_speed_sweep`), the Campbell crossings at the
+    peaks (:func:`~fricdamp.models.blade_pair_analyses.peak_crossing`) and the orbits
     (:func:`~fricdamp.models.blade_pair_analyses.orbits`) at the orbit speeds."""
+    import time
+
     import xarray as xr
 
-    from fricdamp.models.blade_pair_analyses import orbits
+    from fricdamp.models.blade_pair_analyses import orbits, peak_crossing
 
     obj = _require_model(model, "[analysis.steady_state_sweep]")
     m = obj.model
     fcs = (list(spec.friction_coefficients) if spec.friction_coefficients is not None
            else [obj.friction_coefficient()])
+    t0 = time.perf_counter()
     entries, raw = _sweep_entries(m, spec, fcs)
+    t_eqlin = time.perf_counter() - t0
+    hb_info = _hb_pass(m, spec, entries, raw) if spec.harmonic_balance else {}
     o_rpm = spec.orbit_speeds()
     orb = {k: orbits(m, k, o_rpm, fcs, n_points=spec.orbit_points) for k in spec.orders} \
         if o_rpm else {}
 
-    notes, peaks = [], {}
+    notes, peaks, reasons = [], {}, []
+    n_cross = {"eqlin": 0, "hb": 0}
+    thr = spec.disagreement_threshold
     for e, (k, f, res, _) in zip(entries, raw, strict=True):
+        label = f"k = {k}, f = {_f_label(f)}"
         W = np.asarray(e["dissipated_energy_J"])
         i = int(np.nanargmax(W))
-        peaks[f"k{k}_f{_f_label(f)}"] = {
+        pc = peak_crossing(m, k, f, e["rpm"], i, window=spec.crossing_window)
+        n_cross["eqlin"] += pc["at_crossing"]
+        nfr = np.maximum(e["normal_force_ratio_A"], e["normal_force_ratio_B"])
+        peak = {
             "peak_rpm": e["rpm"][i], "peak_dissipated_energy_J": float(W[i]),
             "max_major_semi_axis_A_m": max(a for a, _ in e["semi_axes_A_m"]),
             "max_major_semi_axis_B_m": max(a for a, _ in e["semi_axes_B_m"]),
             "stuck_fraction": float(np.mean(np.array(e["stuck_A"]) & np.array(e["stuck_B"]))),
-            "converged": e["converged"]}
+            "converged": e["converged"],
+            "campbell_crossings_rpm": pc["crossings_rpm"],
+            "peak_at_crossing": pc["at_crossing"],
+            "max_normal_force_ratio": float(np.max(nfr)),
+            "normal_force_ratio_at_peak": float(nfr[i])}
+        e["peak_at_campbell_crossing"] = pc["at_crossing"]
+        hb = e.get("hb")
+        if hb:
+            Wh = np.array([np.nan if v is None else v for v in hb["dissipated_energy_J"]])
+            j = int(np.nanargmax(Wh)) if np.isfinite(Wh).any() else None
+            if j is not None:
+                pch = peak_crossing(m, k, f, e["rpm"], j, window=spec.crossing_window)
+                n_cross["hb"] += pch["at_crossing"]
+                peak.update({"hb_peak_rpm": e["rpm"][j],
+                             "hb_peak_dissipated_energy_J": float(Wh[j]),
+                             "hb_peak_at_crossing": pch["at_crossing"]})
+            rW, rt = e["eqlin_over_hb_energy"][i], e["eqlin_over_hb_tip_amplitude"][i]
+            peak.update({"eqlin_over_hb_energy_at_peak": rW,
+                         "eqlin_over_hb_tip_amplitude_at_peak": rt,
+                         "disagreement_band_rpm": e["disagreement_band_rpm"]})
+            kt_e = e.get("eqlin_with_stick_stiffness")
+            peak["stick_agreement_with_hb"] = _stick_agreement(e, e)
+            if kt_e:
+                peak["stick_agreement_with_hb_stick_stiffness"] = _stick_agreement(e, kt_e)
+                peak["disagreement_speeds"] = int(np.sum(e["disagreement"]))
+                peak["disagreement_speeds_stick_stiffness"] = kt_e["disagreement_speeds"]
+            if not hb["success"][i]:
+                reasons.append(f"{label}: HB did not converge at the eqlin peak "
+                               f"({e['rpm'][i]:.0f} rpm): the peak is not cross-checked")
+            elif e["disagreement"][i]:
+                what = []
+                if rW is None or abs(rW - 1) > thr:
+                    what.append("friction energy " + ("eqlin > 0, HB 0" if rW is None
+                                                      else f"x{rW:.3g}"))
+                if rt is None or abs(rt - 1) > thr:
+                    what.append("tip amplitude " + ("n/a" if rt is None else f"x{rt:.3g}"))
+                reasons.append(f"{label}: at the reported peak ({e['rpm'][i]:.0f} rpm) the "
+                               f"slip-ellipse linearisation differs from multi-harmonic HB by "
+                               f"more than {thr:.0%} ({', '.join(what)}): use HB there")
+            if e["disagreement_band_rpm"]:
+                notes.append(f"{label}: eqlin and HB differ by more than {thr:.0%} at "
+                             f"{int(np.sum(e['disagreement']))} of {len(e['rpm'])} speeds, "
+                             "bands " + ", ".join(f"{lo:.0f}-{hi:.0f}" for lo, hi in
+                                                  e["disagreement_band_rpm"]) + " rpm")
+        if np.max(nfr) >= 1.0:
+            reasons.append(f"{label}: the normal-force oscillation reaches "
+                           f"{np.max(nfr):.2f} N0 (lift-off) at "
+                           f"{e['rpm'][int(np.argmax(nfr))]:.0f} rpm: the constant normal load "
+                           "of 001 (6) does not hold")
+        elif np.max(nfr) > spec.normal_load_warning_ratio:
+            notes.append(f"{label}: the normal-force oscillation reaches {np.max(nfr):.2f} N0 "
+                         f"at {e['rpm'][int(np.argmax(nfr))]:.0f} rpm (warning above "
+                         f"{spec.normal_load_warning_ratio:g}; lift-off at 1): the constant "
+                         "normal load of 001 (6) is doubtful there")
+        peaks[f"k{k}_f{_f_label(f)}"] = peak
         if not e["converged"]:
             bad = np.flatnonzero(~res.converged)
-            notes.append(f"k = {k}, f = {_f_label(f)}: {bad.size} of {res.converged.size} "
+            notes.append(f"{label}: {bad.size} of {res.converged.size} "
                          f"speeds did not converge (first at {e['rpm'][bad[0]]:.4g} rpm); the "
                          "equivalent damping may have no fixed point there (raise "
                          "max_iterations or add damping)")
+    if hb_info.get("hb_failed_speeds"):
+        notes.append(f"HB did not converge at {hb_info['hb_failed_speeds']} speed(s) "
+                     "(NaN / null there)")
     ebe = max(e["energy_balance_error"] for e in entries)
     summary = {
         "orders": list(spec.orders),
@@ -714,8 +891,22 @@ def run_steady_state_sweep(model: BladePairCaseModel, spec: SteadyStateSweepAnal
         "energy_balance_error": float(ebe),
         "all_converged": all(e["converged"] for e in entries),
         "eqlin_iterations": int(sum(e["total_iterations"] for e in entries)),
+        "eqlin_runtime_s": t_eqlin,
         "peaks": peaks,
+        "peaks_at_campbell_crossings": {"eqlin": n_cross["eqlin"],
+                                        "hb": n_cross["hb"] if spec.harmonic_balance else None,
+                                        "sweeps": len(entries)},
+        **hb_info,
     }
+    if spec.harmonic_balance:
+        n_dis = [int(np.sum(e["disagreement"])) for e in entries if e.get("hb")]
+        summary["disagreement_speeds"] = int(sum(n_dis))
+        kt_dis = [e["eqlin_with_stick_stiffness"]["disagreement_speeds"] for e in entries
+                  if e.get("eqlin_with_stick_stiffness")]
+        if kt_dis:
+            summary["disagreement_speeds_stick_stiffness"] = int(sum(kt_dis))
+        hb_err = [e["hb"]["energy_balance_error"] for e in entries if e.get("hb")]
+        summary["hb_energy_balance_error"] = float(max(hb_err)) if hb_err else None
 
     rpm = np.asarray(entries[0]["rpm"])
     fab = np.array([np.broadcast_to(np.asarray(f, float), (2,)) for _, f, _, _ in raw])
@@ -743,8 +934,26 @@ def run_steady_state_sweep(model: BladePairCaseModel, spec: SteadyStateSweepAnal
          "tip_tangential_amplitude_blade1": (dims, stack("tip_tangential_amplitude_m", 0),
                                              {"units": "m"}),
          "tip_tangential_amplitude_blade2": (dims, stack("tip_tangential_amplitude_m", 1),
-                                             {"units": "m"})},
+                                             {"units": "m"}),
+         "tip_amplitude": (dims, stack("tip_amplitude_m"), {"units": "m"}),
+         "normal_force_ratio_A": (dims, stack("normal_force_ratio_A"), {"units": "1"}),
+         "normal_force_ratio_B": (dims, stack("normal_force_ratio_B"), {"units": "1"})},
         coords=sweep_coords)}
+    if spec.harmonic_balance and all(e.get("hb") for e in entries):
+        def hb_stack(key):
+            return np.array([[np.nan if v is None else v for v in e["hb"][key]]
+                             for e in entries], dtype=float)
+
+        def ratio(key):
+            return np.array([[np.nan if v is None else v for v in e[key]] for e in entries],
+                            dtype=float)
+
+        ds = arrays["steady_state"]
+        ds["hb_dissipated_energy"] = (dims, hb_stack("dissipated_energy_J"), {"units": "J"})
+        ds["hb_tip_amplitude"] = (dims, hb_stack("tip_amplitude_m"), {"units": "m"})
+        ds["eqlin_over_hb_energy"] = (dims, ratio("eqlin_over_hb_energy"), {"units": "1"})
+        ds["eqlin_over_hb_tip_amplitude"] = (dims, ratio("eqlin_over_hb_tip_amplitude"),
+                                             {"units": "1"})
     if orb:
         xi = np.array([[[o[c][i]["xi_m"] for c in ("A", "B")] for i in range(len(o_rpm))]
                        for k in spec.orders for o in orb[k]])
@@ -761,19 +970,35 @@ def run_steady_state_sweep(model: BladePairCaseModel, spec: SteadyStateSweepAnal
     w_max = best["peak_dissipated_energy_J"]
     headline = (f"{len(spec.orders)} orders x {len(fcs)} friction coefficients x "
                 f"{spec.n_speeds} speeds; largest friction energy {w_max:.3g} J per period "
-                f"({name} at {best['peak_rpm']:.0f} rpm); energy balance {ebe:.1e}")
+                f"({name} at {best['peak_rpm']:.0f} rpm); energy balance {ebe:.1e}; "
+                f"{n_cross['eqlin']} of {len(entries)} energy peaks at a Campbell crossing"
+                + (f"; HB beside eqlin: {summary['disagreement_speeds']} speeds differ by "
+                   f"> {thr:.0%}" if spec.harmonic_balance else ""))
 
     def figures():
         return _sweep_figures(entries, orb, o_rpm, spec)
 
     # sweeps with speeds where the equivalent-damping iteration found no fixed point
     n_bad = sum(int(np.sum(~np.asarray(e["converged"], bool))) for e in entries)
-    verdict = judge({"energy_balance_error": float(ebe), "unconverged_sweeps": n_bad},
-                    reasons=[f"{n_bad} sweep(s) have speeds without a converged steady "
-                             "state (see the notes)"] if n_bad else [])
+    if n_bad:
+        reasons.insert(0, f"{n_bad} sweep(s) have speeds without a converged steady state "
+                          "(see the notes)")
+    verdict = judge({"energy_balance_error": float(ebe), "unconverged_sweeps": n_bad,
+                     "disagreement_speeds": summary.get("disagreement_speeds")},
+                    reasons=reasons)
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes, top_level={"n_dof": obj.n_dof, "steady_state": entries},
                           verdict=verdict)
+
+
+def _floats(values) -> np.ndarray:
+    return np.array([np.nan if v is None else v for v in values], dtype=float)
+
+
+def _positive(values) -> np.ndarray:
+    """Values for a log axis: zero (a stuck contact, no slip) and NaN are not drawn."""
+    a = np.asarray(values, dtype=float)
+    return np.where(a > 0, a, np.nan)
 
 
 def _sweep_figures(entries: list, orb: dict, o_rpm: list, spec: SteadyStateSweepAnalysis
@@ -781,7 +1006,6 @@ def _sweep_figures(entries: list, orb: dict, o_rpm: list, spec: SteadyStateSweep
     from fricdamp import plot
 
     orders = list(spec.orders)
-    floor = 1e-12
 
     # Figs 6-7: semi-axes vs rpm, one row per order, contacts A and B side by side
     fig, axes = plot.new_figure(len(orders), 2, width=11.5, height=3.4, sharex=True,
@@ -792,9 +1016,9 @@ def _sweep_figures(entries: list, orb: dict, o_rpm: list, spec: SteadyStateSweep
             ax = axes[row, col]
             for e in (e for e in entries if e["k"] == k):
                 ab = np.array(e[f"semi_axes_{c}_m"])
-                line, = ax.semilogy(e["rpm"], np.maximum(ab[:, 0], floor), lw=1,
+                line, = ax.semilogy(e["rpm"], _positive(ab[:, 0]), lw=1,
                                     label=f"f = {_f_label(e['friction_coefficient'])}")
-                ax.semilogy(e["rpm"], np.maximum(ab[:, 1], floor), ":", lw=1,
+                ax.semilogy(e["rpm"], _positive(ab[:, 1]), ":", lw=1,
                             color=line.get_color())
             ax.set_title(f"contact {c}, k = {k}", fontsize="small")
             ax.set_ylabel("semi-axis [m]")
@@ -803,7 +1027,7 @@ def _sweep_figures(entries: list, orb: dict, o_rpm: list, spec: SteadyStateSweep
         ax.set_xlabel("spin speed [rpm]")
     figs = [("semi_axes.png", "Major (solid) and minor (dotted) semi-axes of the elliptical "
              "slip orbits of A and B vs spin speed, per order and friction coefficient "
-             f"(001 Figs 6-7; floored at {floor:g} m for the log scale)", fig)]
+             "(001 Figs 6-7; a stuck contact has no slip and is not drawn)", fig)]
 
     # Fig. 8: inclinations
     fig, axes = plot.new_figure(1, len(orders), width=4.0 * len(orders) + 0.5, height=3.8,
@@ -825,17 +1049,51 @@ def _sweep_figures(entries: list, orb: dict, o_rpm: list, spec: SteadyStateSweep
     fig, axes = plot.new_figure(1, len(orders), width=4.0 * len(orders) + 0.5, height=3.8,
                                 title="Energy dissipated by friction per period T_k "
                                       "(001 Figs 9-11)")
+    hb_on = any(e.get("hb") for e in entries)
     for ax, k in zip(axes[0], orders, strict=True):
         for e in (e for e in entries if e["k"] == k):
-            ax.semilogy(e["rpm"], np.maximum(e["dissipated_energy_J"], floor), lw=1,
-                        label=f"f = {_f_label(e['friction_coefficient'])}")
-        ax.set_title(f"k = {k}", fontsize="small")
+            r = np.asarray(e["rpm"])
+            W = np.asarray(e["dissipated_energy_J"], float)
+            line, = ax.semilogy(r, _positive(W), lw=1,
+                                label=f"f = {_f_label(e['friction_coefficient'])}")
+            if e.get("hb"):
+                ax.semilogy(r, _positive(_floats(e["hb"]["dissipated_energy_J"])), "--",
+                            lw=1, color=line.get_color())
+                bad = np.asarray(e["disagreement"], bool)
+                ax.plot(r[bad], np.where(W[bad] > 0, W[bad], np.nan), "x", ms=3,
+                        color=line.get_color())
+        ax.set_title(f"k = {k}" + (" (solid eqlin, dashed HB, x: > "
+                                   f"{spec.disagreement_threshold:.0%} apart)" if hb_on
+                                   else ""), fontsize="small")
         ax.set_xlabel("spin speed [rpm]")
     axes[0, 0].set_ylabel("friction energy per period [J]")
     axes[0, 0].legend(fontsize="x-small")
     figs.append(("dissipated_energy.png", "Energy dissipated by friction at A and B per "
                  "excitation period vs spin speed, one curve per friction coefficient "
-                 "(001 Figs 9-11)", fig))
+                 "(001 Figs 9-11): equivalent linearisation (solid) and multi-harmonic "
+                 "stick-slip HB (dashed); x marks speeds where they differ by more than the "
+                 "threshold; zero (stuck) is not drawn", fig))
+
+    # tip amplitude, eqlin and HB
+    fig, axes = plot.new_figure(1, len(orders), width=4.0 * len(orders) + 0.5, height=3.8,
+                                title="Tangential tip (shroud) amplitude, larger of the two "
+                                      "blades")
+    for ax, k in zip(axes[0], orders, strict=True):
+        for e in (e for e in entries if e["k"] == k):
+            line, = ax.semilogy(e["rpm"], _positive(e["tip_amplitude_m"]), lw=1,
+                                label=f"f = {_f_label(e['friction_coefficient'])}")
+            if e.get("hb"):
+                ax.semilogy(e["rpm"], _positive(_floats(e["hb"]["tip_amplitude_m"])), "--",
+                            lw=1, color=line.get_color())
+        ax.set_title(f"k = {k}" + (" (solid eqlin, dashed HB)" if hb_on else ""),
+                     fontsize="small")
+        ax.set_xlabel("spin speed [rpm]")
+    axes[0, 0].set_ylabel("tip amplitude [m]")
+    axes[0, 0].legend(fontsize="x-small")
+    figs.append(("tip_amplitude.png", "Tangential amplitude of the tip (shroud) node, the "
+                 "larger of the two blades, vs spin speed: equivalent linearisation (solid, "
+                 "harmonic amplitude) and multi-harmonic HB (dashed, largest excursion from "
+                 "the mean over the period)", fig))
 
     # Figs 12-14: orbits
     for k in orders if orb else []:

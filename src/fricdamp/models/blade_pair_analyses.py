@@ -43,12 +43,16 @@ from fricdamp.solvers.eqlin import (
 __all__ = [
     "campbell_diagram",
     "complex_modes",
+    "crossing_speeds",
     "equivalent_damping_matrix",
     "harmonic_balance_cross_check",
+    "normal_force_ratio",
     "orbits",
+    "peak_crossing",
     "run_blade_pair_case",
     "solve_steady_states",
     "steady_state_sweep",
+    "stick_masks",
 ]
 
 logger = logging.getLogger(__name__)
@@ -122,32 +126,85 @@ def _f_value(f):
     return float(a[0]) if a.size == 1 or np.all(a == a[0]) else [float(v) for v in a]
 
 
+def stick_masks(damp, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Where each contact's slip and its rotation about the normal stick, (n_b, 2) each.
+
+    Paper law (friction as a damper only): the orbit, or the rotation amplitude, is within
+    twice its floor (``min_slip``, ``min_slip / rho``), where the floor is also the
+    convergence tolerance -- indistinguishable from no slip. With a stick stiffness
+    (:class:`~fricdamp.models.blade_pair.JenkinsEllipseDamping`): the spring force is
+    within the slip limit (``k_t a <= f N``, ``k_r phi <= M_0``).
+    """
+    stuck_t = np.asarray(damp.stuck(s), bool)
+    if hasattr(damp, "rotation_stuck"):
+        stuck_r = np.asarray(damp.rotation_stuck(s), bool)
+    else:
+        rot = np.abs(np.asarray(s)[:, [2, 5]])
+        stuck_r = rot <= 2.0 * np.asarray(damp.min_rotation)[None, :]
+    return stuck_t, stuck_r
+
+
+def normal_force_ratio(model: BladePairModel, response: np.ndarray, speeds,
+                       omega) -> np.ndarray:
+    """Amplitude of the normal-force oscillation over the static normal load, (n_b, 2).
+
+    ``|k_X (1 + i w beta_C) zeta~_X| / N_X0`` with ``zeta~_X`` the normal approach of contact
+    X (001 (13)) in the steady state: the constant-normal-load assumption of 001 (6) behind
+    the equivalent damping holds while it is well below 1; at 1 the contact lifts off once
+    per cycle.
+    """
+    p = model.params
+    zeta = np.asarray(response) @ model.contact_projection[:, 0, :].T      # (n_b, 2)
+    k = np.array(p.contact_stiffness)[None, :]
+    w = np.asarray(omega, float)[:, None]
+    dyn = np.abs(k * (1.0 + 1j * w * p.contact_damping) * zeta)
+    N0 = model.normal_loads(np.asarray(speeds, float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(N0 > 0, dyn / N0, np.inf)
+
+
 def _sweep_entry(model: BladePairModel, k: int, r: np.ndarray, f, res: EqLinResult, damp
                  ) -> dict:
-    e = damp.orbits(res.contact_response)                           # (n_b, 2)
-    W = res.equivalent_dissipation                                  # groups A-tr, A-rot, ...
+    s = res.contact_response
+    e = damp.orbits(s)                                              # (n_b, 2)
+    stuck, stuck_r = stick_masks(damp, s)
+    # a stuck contact has no slip and dissipates nothing: report 0, never the floor of
+    # the equivalent damping (whose product with the floored orbit is arbitrary)
+    W = res.equivalent_dissipation.copy()                           # A-tr, A-rot, B-tr, B-rot
+    W[:, 0::2] = np.where(stuck, 0.0, W[:, 0::2])
+    W[:, 1::2] = np.where(stuck_r, 0.0, W[:, 1::2])
     W_A, W_B = W[:, 0] + W[:, 1], W[:, 2] + W[:, 3]
-    stuck = damp.stuck(res.contact_response)
+    major = np.where(stuck, 0.0, e.major)
+    minor = np.where(stuck, 0.0, e.minor)
+    incl = np.where(stuck, 0.0, e.inclination)
     tip = model.tip_node
     i1 = model.dof_index("blade1", tip, "w")
     i2 = model.dof_index("blade2", tip, "w")
+    tip_amp = np.column_stack([np.abs(res.response[:, i1]), np.abs(res.response[:, i2])])
+    speeds = rpm_to_rad_s(r)
+    nfr = normal_force_ratio(model, res.response, speeds, res.omega)
     return {
         "k": int(k),
         "friction_coefficient": _f_value(f),
         "rpm": r.tolist(),
-        "semi_axes_A_m": np.column_stack([e.major[:, 0], e.minor[:, 0]]).tolist(),
-        "semi_axes_B_m": np.column_stack([e.major[:, 1], e.minor[:, 1]]).tolist(),
-        "inclination_A_rad": e.inclination[:, 0].tolist(),
-        "inclination_B_rad": e.inclination[:, 1].tolist(),
+        "semi_axes_A_m": np.column_stack([major[:, 0], minor[:, 0]]).tolist(),
+        "semi_axes_B_m": np.column_stack([major[:, 1], minor[:, 1]]).tolist(),
+        "inclination_A_rad": incl[:, 0].tolist(),
+        "inclination_B_rad": incl[:, 1].tolist(),
         "dissipated_energy_J": (W_A + W_B).tolist(),
         "dissipated_energy_A_J": W_A.tolist(),
         "dissipated_energy_B_J": W_B.tolist(),
         "external_work_J": res.external_work.tolist(),
-        "tip_tangential_amplitude_m": np.column_stack(
-            [np.abs(res.response[:, i1]), np.abs(res.response[:, i2])]).tolist(),
-        "normal_loads_N": model.normal_loads(rpm_to_rad_s(r)).tolist(),
+        "tip_tangential_amplitude_m": tip_amp.tolist(),
+        "tip_amplitude_m": tip_amp.max(axis=1).tolist(),
+        "normal_force_ratio_A": nfr[:, 0].tolist(),
+        "normal_force_ratio_B": nfr[:, 1].tolist(),
+        "normal_loads_N": model.normal_loads(speeds).tolist(),
         "stuck_A": stuck[:, 0].tolist(),
         "stuck_B": stuck[:, 1].tolist(),
+        "rotation_stuck_A": stuck_r[:, 0].tolist(),
+        "rotation_stuck_B": stuck_r[:, 1].tolist(),
+        "tangential_stiffness_N_per_m": model.params.tangential_stiffness,
         "energy_balance_error": float(np.max(res.energy_balance_error)),
         "iterations": res.iterations.tolist(),
         "total_iterations": res.total_iterations,
@@ -242,7 +299,7 @@ def _linearised(model: BladePairModel, order: int, rpm, friction_coefficient, fr
 
 def campbell_diagram(model, rpm, *, order: int = 30, friction_coefficient: float = 0.1,
                      friction: bool = True, n_modes: int = 15,
-                     damping_source: str = "converged", rule: str | None = None,
+                     damping_source: str = "linear", rule: str | None = None,
                      excitation_orders=(15, 20, 30)) -> dict:
     """Imaginary parts of the eigenvalues of the linearised 001 (8) vs spin speed.
 
@@ -260,9 +317,10 @@ def campbell_diagram(model, rpm, *, order: int = 30, friction_coefficient: float
         Include B_e (False: only material, contact and gyroscopic terms).
     n_modes : int
         Number of lowest complex pairs reported.
-    damping_source : {"converged", "linear"}
-        B_e from the converged equivalent-linear steady state, or (001 section 4.1
-        literally) from the response computed without friction damping.
+    damping_source : {"linear", "converged"}
+        ``"linear"`` (default, 001 section 4.1): B_e from the steady response computed
+        without friction damping; ``"converged"``: from the converged equivalent-linear
+        steady state.
     rule : {"coulomb", "paper"}, optional
     excitation_orders : sequence of int
         Orders of the excitation lines ``f = k rpm / 60`` (for the plot and the contract).
@@ -314,18 +372,78 @@ def campbell_diagram(model, rpm, *, order: int = 30, friction_coefficient: float
             "runtime_s": time.perf_counter() - t0}
 
 
+def crossing_speeds(rpm, frequency_hz, order: int) -> list[float]:
+    """Speeds [rpm] where a branch ``f(rpm)`` [Hz] meets the line ``k rpm / 60``.
+
+    Linear interpolation between grid points where ``f - k rpm / 60`` changes sign (NaN or
+    missing points break the branch).
+    """
+    r = np.asarray(rpm, float)
+    f = np.array([np.nan if v is None else v for v in frequency_hz], float)
+    g = f - order * r / 60.0
+    out = []
+    for i in range(r.size - 1):
+        a, b = g[i], g[i + 1]
+        if not (np.isfinite(a) and np.isfinite(b)):
+            continue
+        if a == 0.0:
+            out.append(float(r[i]))
+        elif a * b < 0.0:
+            out.append(float(r[i] + (r[i + 1] - r[i]) * a / (a - b)))
+    if r.size and np.isfinite(g[-1]) and g[-1] == 0.0:
+        out.append(float(r[-1]))
+    return out
+
+
+def peak_crossing(model, order: int, friction_coefficient, rpm, peak_index: int, *,
+                  window: int = 3, n_modes: int = 15, damping_source: str = "linear",
+                  rule: str | None = None) -> dict:
+    """Is a steady-state peak at a Campbell crossing? (001 section 4.1, Figs 3-4.)
+
+    The Campbell diagram of the same steady state (order k, friction coefficient f, B_e by
+    ``damping_source``) is computed at the sweep's speeds within ``window`` grid steps of
+    the peak; the peak is *at a crossing* when ``k rpm / 60`` meets one of the ``n_modes``
+    lowest branches within one grid step of the peak speed.
+
+    Returns
+    -------
+    dict
+        ``peak_rpm``, ``crossings_rpm`` (in the window), ``nearest_crossing_rpm`` (None if
+        none), ``at_crossing`` (bool), ``tolerance_rpm`` (one grid step).
+    """
+    r = _rpm(rpm)
+    i = int(peak_index)
+    lo, hi = max(i - int(window), 0), min(i + int(window) + 1, r.size)
+    rw = r[lo:hi]
+    step = float(np.max(np.diff(r))) if r.size > 1 else 0.0
+    f = float(np.atleast_1d(np.asarray(friction_coefficient, float))[0])
+    camp = campbell_diagram(model, rw, order=order, friction_coefficient=f,
+                            n_modes=n_modes, damping_source=damping_source, rule=rule,
+                            excitation_orders=[order])
+    cr = sorted(c for row in camp["frequency_hz"] for c in crossing_speeds(rw, row, order))
+    near = min(cr, key=lambda c: abs(c - r[i])) if cr else None
+    return {"peak_rpm": float(r[i]), "crossings_rpm": cr, "nearest_crossing_rpm": near,
+            "at_crossing": bool(near is not None and abs(near - r[i]) <= step * (1 + 1e-9)),
+            "tolerance_rpm": step}
+
+
 def complex_modes(model, rpm: float, *, order: int = 30, friction_coefficient: float = 0.1,
-                  friction: bool = True, n_modes: int = 3, damping_source: str = "converged",
+                  friction: bool = True, n_modes: int = 3, damping_source: str = "linear",
                   rule: str | None = None) -> dict:
     """Complex mode shapes of the linearised model at one speed (001 Fig. 5).
+
+    Shapes are normalised on the translations: the translational DOF (u, v, w of a blade
+    node or of the wedge) of largest modulus is 1 (rotations in rad would otherwise compete
+    with displacements in m).
 
     Returns
     -------
     dict
         ``rpm``, ``eigenvalues`` (n_modes complex as [re, im] [1/s]), ``frequency_hz``,
         ``damping_ratio``, ``shapes`` (n_dof x n_modes complex as [re, im], largest
-        component 1), ``blade_nodes_m`` (radii of the blade nodes), ``blade1`` / ``blade2``:
-        per mode the complex (v, w) of each blade node (axial, tangential) as [re, im].
+        translation 1), ``normalised_on`` (the DOF name per mode), ``blade_nodes_m`` (radii
+        of the blade nodes), ``blade1`` / ``blade2``: per mode the complex (v, w) of each
+        blade node (axial, tangential) as [re, im].
     """
     model = _model(model)
     k = _order(order)
@@ -341,7 +459,10 @@ def complex_modes(model, rpm: float, *, order: int = 30, friction_coefficient: f
     up, _, _ = _classify(lam)
     sel = [int(np.argmin(np.abs(lam - u))) for u in up[:int(n_modes)]]
     X = V[:n, sel]
-    idx = np.argmax(np.abs(X), axis=0)
+    trans = np.array([nm.split(".")[-1][:1] in ("u", "v", "w") for nm in model.dof_names])
+    if trans.size != n or not trans.any():
+        trans = np.ones(n, bool)
+    idx = np.flatnonzero(trans)[np.argmax(np.abs(X[trans]), axis=0)]
     X = X / X[idx, np.arange(X.shape[1])]
     nodes = range(1, model.blade.n_nodes)
 
@@ -358,6 +479,7 @@ def complex_modes(model, rpm: float, *, order: int = 30, friction_coefficient: f
             "frequency_hz": (lam_sel.imag / (2 * np.pi)).tolist(),
             "damping_ratio": (-lam_sel.real / np.abs(lam_sel)).tolist(),
             "shapes": np.stack([X.real, X.imag], axis=-1).tolist(),
+            "normalised_on": [model.dof_names[i] if model.dof_names else int(i) for i in idx],
             "blade_nodes_m": model.blade.nodes[1:, 0].tolist(),
             "blade1": blade("blade1"), "blade2": blade("blade2")}
 
@@ -494,7 +616,7 @@ def run_blade_pair_case(params: BladePairParameters | None = None, *,
                         n_sweep: int = 200, orders=(15, 20, 30),
                         friction_coefficients=(0.05, 0.1, 0.2, 0.3),
                         campbell_order: int = 30, campbell_friction: float = 0.1,
-                        n_modes: int = 15, damping_source: str = "converged",
+                        n_modes: int = 15, damping_source: str = "linear",
                         mode_rpm: float = 2000.0, orbit_rpm=None,
                         tol: float = 1e-8) -> dict:
     """All 001 analyses; the dict of the ``summary.json`` contract.

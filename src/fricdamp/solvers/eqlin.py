@@ -3,15 +3,17 @@
 The steady response ``q(t) = Re(q~ e^{i w t})`` of a linear structure whose friction
 contacts are replaced by equivalent viscous dampers (paper 001 section 3) solves
 
-    (Z(w) + i w P^T C(s~) P) q~ = F~,      s~ = P q~,
+    (Z(w) + P^T (K_eq(s~) + i w C(s~)) P) q~ = F~,      s~ = P q~,
 
 with ``Z = K - w^2 M + i w D`` the dynamic stiffness of the linear part (gyroscopic terms
 included in D), P the projection on the m contact coordinates, and C(s~) the equivalent
-damping (m x m, symmetric) built from the contact orbits (:mod:`fricdamp.contact.equivalent`).
+damping (m x m, symmetric) built from the contact orbits (:mod:`fricdamp.contact.equivalent`);
+``K_eq`` an optional equivalent stiffness of the contacts (0 for the paper's law; the stick
+spring of a Jenkins element otherwise, so that a stuck contact is a spring, not a damper).
 Since C acts on the contact coordinates only, the problem is condensed once per frequency,
 
-    q~ = X0 - i w X_P C s~,   X0 = Z^{-1} F~,   X_P = Z^{-1} P^T,
-    (I + i w R C) s~ = s_lin,  R = P X_P,  s_lin = P X0,
+    q~ = X0 - X_P H s~,   X0 = Z^{-1} F~,   X_P = Z^{-1} P^T,   H = K_eq + i w C,
+    (I + R H) s~ = s_lin,  R = P X_P,  s_lin = P X0,
 
 and the fixed point ``s~ = S(s~)`` (the orbits reproduce the damping they were built from)
 is iterated on m unknowns, vectorised over a batch of frequencies/speeds:
@@ -76,7 +78,10 @@ class EquivalentDamping(Protocol):
     ``matrix(s, omega, batch_index)`` returns the real symmetric damping matrices
     (n_b, m, m) for contact coordinates s (n_b, m) at frequencies omega (n_b,);
     ``batch_index`` (n_b,) are the batch points they belong to. ``groups`` (m,) optional:
-    convergence groups of the coordinates.
+    convergence groups of the coordinates. ``stiffness(s, omega, batch_index)`` optional:
+    real symmetric equivalent stiffness matrices (n_b, m, m) [N/m] of the same contacts
+    (e.g. the stick spring of a Jenkins element); the contact impedance is then
+    ``K_eq + i w C``.
     """
 
     def matrix(self, s: np.ndarray, omega: np.ndarray,
@@ -219,6 +224,9 @@ class EqLinResult:
         s~ = P q~ (the orbits) [m].
     damping : ndarray, shape (n_b, m, m)
         The equivalent damping C the response was computed with [N s/m].
+    stiffness : ndarray, shape (n_b, m, m), or None
+        The equivalent stiffness K_eq it was computed with [N/m] (None: the damping model
+        has none).
     iterations : ndarray of int, shape (n_b,)
         Iterations (fixed-point steps plus Newton steps).
     newton_iterations : ndarray of int, shape (n_b,)
@@ -251,6 +259,7 @@ class EqLinResult:
     equivalent_dissipation: np.ndarray
     energy_balance_error: np.ndarray
     message: str = ""
+    stiffness: np.ndarray | None = None
 
     @property
     def success(self) -> bool:
@@ -373,6 +382,9 @@ def equivalent_linearisation(system: CondensedSystem, damping, *, tol: float = 1
     lin_scale = np.maximum(_group_norms(s_lin, groups, n_groups), atol_g[None, :])
     lin_scale = np.where(lin_scale > 0, lin_scale, 1.0)                           # (nb, G)
 
+    kfn = getattr(damping, "stiffness", None)
+    kfn = kfn if callable(kfn) else None
+
     def damping_of(s, idx):
         C = np.asarray(fn(s, w[idx], idx), dtype=float)
         if C.shape != (idx.size, m, m) or not np.all(np.isfinite(C)):
@@ -380,10 +392,22 @@ def equivalent_linearisation(system: CondensedSystem, damping, *, tol: float = 1
                              f"{m}), got {C.shape}")
         return C
 
+    def impedance(s, idx):
+        """C(s) and the contact impedance H = K_eq(s) + i w C(s)."""
+        C = damping_of(s, idx)
+        Hm = 1j * w[idx, None, None] * C
+        if kfn is not None:
+            Kq = np.asarray(kfn(s, w[idx], idx), dtype=float)
+            if Kq.shape != C.shape or not np.all(np.isfinite(Kq)):
+                raise ModelError(f"stiffness matrix must be finite with shape {C.shape}, "
+                                 f"got {Kq.shape}")
+            Hm = Hm + Kq
+        return C, Hm
+
     def fixed_point_map(s, idx):
         """C(s) and S(s): the response to the damping built from s."""
-        C = damping_of(s, idx)
-        A = eye + 1j * w[idx, None, None] * (R[idx] @ C)
+        C, Hm = impedance(s, idx)
+        A = eye + R[idx] @ Hm
         return C, np.linalg.solve(A, s_lin[idx][:, :, None])[:, :, 0]
 
     def residual(s, idx):
@@ -521,19 +545,27 @@ def equivalent_linearisation(system: CondensedSystem, damping, *, tol: float = 1
         mode[back] = 2
         s[back] = handover[back]
         prev_change[back] = np.nan
-    # Final response: solve (Z + i w P^T C P) q = F once. (The condensed form
-    # q = X0 - i w X_P C s cancels catastrophically when a stuck contact's huge damping
+    # Final response: solve (Z + P^T H P) q = F once. (The condensed form
+    # q = X0 - X_P H s cancels catastrophically when a stuck contact's huge damping
     # nearly cancels the free response.)
     P = system.projection
+    K_out = None
+    H_out = 1j * w[:, None, None] * C_out
+    if kfn is not None:
+        # K_eq and C of the converged orbit (equal to those of the last iterate to the
+        # tolerance); the response below is solved with exactly these, so the energy
+        # balance holds to rounding
+        K_out = np.asarray(kfn(s_out, w, np.arange(nb)), dtype=float)
+        C_out = damping_of(s_out, np.arange(nb))
+        H_out = K_out + 1j * w[:, None, None] * C_out
     if system.dynamic_stiffness is not None:
-        Zt = system.dynamic_stiffness + 1j * w[:, None, None] * np.einsum(
-            "mi,bmn,nj->bij", P, C_out, P)
+        Zt = system.dynamic_stiffness + np.einsum("mi,bmn,nj->bij", P, H_out, P)
         q = np.linalg.solve(Zt, system.force[:, :, None])[:, :, 0]
         s_out = q @ P.T
     else:
         q = (system.free_response
-             - 1j * w[:, None] * np.einsum("bnm,bm->bn", system.influence,
-                                           np.einsum("bij,bj->bi", C_out, s_out)))
+             - np.einsum("bnm,bm->bn", system.influence,
+                         np.einsum("bij,bj->bi", H_out, s_out)))
     F = system.force
     W_in = -np.pi * np.imag(np.sum(np.conj(F) * q, axis=1))
     Cs = np.einsum("bij,bj->bi", C_out, s_out)
@@ -569,4 +601,4 @@ def equivalent_linearisation(system: CondensedSystem, damping, *, tol: float = 1
                        iterations=iters, newton_iterations=newton_iters, converged=conv,
                        residual=resid, external_work=W_in,
                        viscous_dissipation=W_visc, equivalent_dissipation=W_eq,
-                       energy_balance_error=err_bal, message=msg)
+                       energy_balance_error=err_bal, message=msg, stiffness=K_out)
