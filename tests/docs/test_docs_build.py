@@ -6,9 +6,9 @@
   their own numbers (a failing ``assert`` fails the build). Any line of the build's log at
   WARNING level or above fails the test, even one that strict mode would let through.
 * Every ```` ```python ```` block of the hand-written pages (front page, getting started,
-  user guide) runs: the blocks of one page in order, in one namespace, as a user pasting
-  them into one script would. Illustrations that must not run are fenced as ``text`` or
-  ``pycon``.
+  user guide, periodic orbits) runs: the blocks of one page in order, in one namespace,
+  as a user pasting them into one script would. Illustrations that must not run are
+  fenced as ``text`` or ``pycon``.
 
 Needs the ``[docs]`` extra (``pip install -e ".[docs]"``).
 """
@@ -27,11 +27,12 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
 
-#: Pages whose python blocks are executed (the existing case-file and tool pages hold
-#: fragments of larger runs and are checked by their own tests).
+#: Pages whose python blocks are executed (the case-file pages hold sketches and runs of
+#: minutes, which their own tests cover).
 _BLOCK = re.compile(r"^```python[^\n]*\n(.*?)^```", re.S | re.M)
 SNIPPET_PAGES = sorted(
-    p for p in [DOCS / "index.md", DOCS / "getting-started.md", *(DOCS / "guide").glob("*.md")]
+    p for p in [DOCS / "index.md", DOCS / "getting-started.md", DOCS / "periodic_orbits.md",
+                *(DOCS / "guide").glob("*.md")]
     if _BLOCK.search(p.read_text(encoding="utf-8")))
 
 
