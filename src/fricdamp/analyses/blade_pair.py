@@ -844,8 +844,8 @@ def run_steady_state_sweep(model: BladePairCaseModel, spec: SteadyStateSweepAnal
                 peak["disagreement_speeds"] = int(np.sum(e["disagreement"]))
                 peak["disagreement_speeds_stick_stiffness"] = kt_e["disagreement_speeds"]
             if not hb["success"][i]:
-                reasons.append(f"{label}: HB did not converge at the eqlin peak "
-                               f"({e['rpm'][i]:.0f} rpm): the peak is not cross-checked")
+                notes.append(f"{label}: HB did not converge at the eqlin peak "
+                             f"({e['rpm'][i]:.0f} rpm): that peak is not cross-checked")
             elif e["disagreement"][i]:
                 what = []
                 if rW is None or abs(rW - 1) > thr:
