@@ -194,7 +194,9 @@ def gallery_pages(config, files) -> None:
         files.append(File.generated(config, f"gallery/{stem}.md", content=md))
         for name, png in images:
             files.append(File.generated(config, f"gallery/images/{name}", content=png))
-        index.append(f"- [{title}]({stem}.md)")
+        index += [f"## [{title}]({stem}.md)", ""]
+        if images:
+            index += [f"[![{title}](images/{images[0][0]}){{ width=\"360\" }}]({stem}.md)", ""]
         log.info("gallery: %s executed", path.name)
     files.append(File.generated(config, "gallery/index.md", content="\n".join(index) + "\n"))
 

@@ -11,7 +11,7 @@ load = viscous + friction dissipation per cycle).
 import numpy as np
 
 from fricdamp.contact import Jenkins
-from fricdamp.solvers import frequency_response
+from fricdamp.solvers import frequency_response, nonlinear_modes
 from fricdamp.structure import ContactElement, HarmonicLoad, chain
 
 system = chain([1.0, 0.5], [1e3, 5e2], dampers=[0.5, 0.2],
@@ -27,5 +27,13 @@ assert frf.success
 assert frf.energy_balance_error.max() < 1e-3
 
 # %%
-# The response of DOF 1 against the excitation frequency.
+# The nonlinear mode of the same system (free motion, amplitude-dependent frequency and
+# damping) is the backbone of the response: the resonance peak lies on it. The figure shows
+# the response of DOF 1 against the excitation frequency, with the backbone.
+nm = nonlinear_modes(system, 0, np.geomspace(1e-3, 0.2, 25), harmonics=7, amplitude_dof=1)
+backbone_at_peak = np.interp(amplitude_peak, nm.amplitude, nm.frequency)
+print(f"backbone at the peak amplitude: {backbone_at_peak / (2 * np.pi):.3f} Hz")
+assert abs(backbone_at_peak / omega_peak - 1) < 0.01
 ax = frf.plot(dof=1)
+ax.plot(nm.frequency / (2 * np.pi), nm.amplitude, "k--", lw=1, label="nonlinear mode")
+ax.legend()
