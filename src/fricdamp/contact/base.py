@@ -81,6 +81,34 @@ class PeriodicResponse(NamedTuple):
     converged: bool
 
 
+class HarmonicResponse(NamedTuple):
+    """Steady periodic response in harmonic coefficients (:meth:`ContactLaw.harmonic_response`).
+
+    Attributes
+    ----------
+    force : ndarray, shape (..., n_contacts, n_dir, n_basis)
+        Coefficients of the periodic force samples projected by the basis' analysis matrix
+        (leading axes: those of the coefficients given).
+    jacobian : ndarray or None, shape (..., n_contacts, n_dir n_basis, n_dir n_basis)
+        d force coefficients / d displacement coefficients of each contact (row and column
+        index ``d * n_basis + j``); None if not requested.
+    u_time, force_time : ndarray, shape (n_t, ..., n_contacts, n_dir)
+        Displacement and periodic force samples.
+    state : ndarray, shape (..., n_contacts, n_state)
+        State at the start (= end) of the periodic period.
+    periods : int
+    converged : bool
+    """
+
+    force: np.ndarray
+    jacobian: np.ndarray | None
+    u_time: np.ndarray
+    force_time: np.ndarray
+    state: np.ndarray
+    periods: int
+    converged: bool
+
+
 class ContactLaw(abc.ABC):
     """Base class of all contact laws (see the module docstring for the protocol).
 
@@ -210,6 +238,36 @@ class ContactLaw(abc.ABC):
                 vb = np.asarray(velocity_basis, dtype=float)
             jac = self._fd_periodic_jacobian(u, v, basis, vb, f, st0, periods)
         return PeriodicResponse(f, jac, st, periods, conv)
+
+    def harmonic_response(self, coeffs: np.ndarray, synthesis: np.ndarray,
+                          analysis: np.ndarray, *, jacobian: bool = True,
+                          state: np.ndarray | None = None,
+                          max_periods: int = 50) -> HarmonicResponse | None:
+        """The AFT step in one call: coefficients in, force coefficients and Jacobian out.
+
+        Optional: a rate-independent law with a compiled kernel for the whole step
+        (synthesis of the samples, periodic march, projection of the force and of its exact
+        sensitivity) overrides it; the default returns None and harmonic balance uses
+        :meth:`periodic_response` with the projections done by the caller. The result must
+        equal that route's to rounding.
+
+        Parameters
+        ----------
+        coeffs : ndarray, shape (..., n_contacts, n_dir, n_basis)
+            Coefficients of the relative displacements, ``u[:, c, d] = synthesis @
+            coeffs[c, d]``; leading axes are independent copies of the contacts (e.g. the
+            points of a frequency response), with the results shaped alike.
+        synthesis : ndarray, shape (n_t, n_basis)
+        analysis : ndarray, shape (n_basis, n_t)
+            Projection of samples onto the coefficients.
+        jacobian, state, max_periods
+            As for :meth:`periodic_response` (``jacobian``: return the Jacobian).
+
+        Returns
+        -------
+        HarmonicResponse or None
+        """
+        return None
 
     def _march_to_periodic(self, u, v, st0, max_periods, tol):
         st = st0

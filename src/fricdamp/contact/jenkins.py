@@ -16,6 +16,7 @@ from numba import njit
 
 from fricdamp.contact.base import (
     ContactLaw,
+    HarmonicResponse,
     LawStep,
     PeriodicResponse,
     broadcast_parameter,
@@ -114,6 +115,124 @@ def jenkins_periodic_jacobian(anchor, kt, basis, jac):  # pragma: no cover - com
             else:
                 for j in range(m):
                     jac[i, c, j] = kt[c] * (basis[i, j] - basis[s, j])
+
+
+@njit(cache=True, nogil=True)
+def jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA, max_periods, jacobian, F, Jb,
+                            u_t, f_t, w_out):  # pragma: no cover - compiled
+    """The AFT step of Jenkins elements from coefficients, all contacts in one call.
+
+    U: (n_c, m) displacement coefficients; syn (N, m), ana (m, N) synthesis and analysis;
+    PS (N+1, m, m), PA (N+1, m) prefix sums over the samples of ``ana[:, i] syn[i, :]`` and
+    ``ana[:, i]``. Writes the samples u_t, f_t (N, n_c), the force coefficients F (n_c, m),
+    the Jacobian blocks Jb (n_c, m, m) if ``jacobian`` and the periodic start states w_out.
+    The march is that of :func:`jenkins_periodic_kernel`; the Jacobian is ``ana @ jac`` with
+    the sample sensitivities of :func:`jenkins_periodic_jacobian`, summed over the runs of
+    samples that share an anchor: ``k_t (PS[j] - PS[i] - (PA[j] - PA[i]) syn[s])`` for the
+    run [i, j) stuck since sample s, ``k_t (PS[j] - PS[i])`` for a run that never slipped,
+    0 in slip (O(m^2) per run instead of O(N m^2) per contact). Returns (largest period
+    count, all converged).
+    """
+    nc, m = U.shape
+    N = syn.shape[0]
+    anchor = np.empty(N, np.int64)
+    worst = 0
+    conv = True
+    for c in range(nc):
+        for i in range(N):
+            acc = 0.0
+            for h in range(m):
+                acc += syn[i, h] * U[c, h]
+            u_t[i, c] = acc
+        w = w0[c]
+        last = -2
+        k = kt[c]
+        lim = fs[c]
+        got = -max_periods
+        for p in range(max_periods):
+            w_begin = w
+            for i in range(N):
+                ui = u_t[i, c]
+                f = k * (ui - w)
+                if lim <= 0.0:
+                    f = 0.0
+                    w = ui
+                    last = i
+                    anchor[i] = -1
+                elif f > lim:
+                    f = lim
+                    w = ui - lim / k
+                    last = i
+                    anchor[i] = -1
+                elif f < -lim:
+                    f = -lim
+                    w = ui + lim / k
+                    last = i
+                    anchor[i] = -1
+                else:
+                    anchor[i] = last
+                f_t[i, c] = f
+            if w == w_begin:
+                got = p + 1
+                w_out[c] = w_begin
+                break
+        else:
+            w_out[c] = w
+        if got < 0:
+            conv = False
+        if abs(got) > worst:
+            worst = abs(got)
+        for h in range(m):
+            acc = 0.0
+            for i in range(N):
+                acc += ana[h, i] * f_t[i, c]
+            F[c, h] = acc
+        if not jacobian:
+            continue
+        for a in range(m):
+            for b in range(m):
+                Jb[c, a, b] = 0.0
+        i = 0
+        while i < N:
+            s = anchor[i]
+            j = i + 1
+            while j < N and anchor[j] == s:
+                j += 1
+            if s != -1:
+                for a in range(m):
+                    for b in range(m):
+                        Jb[c, a, b] += k * (PS[j, a, b] - PS[i, a, b])
+                if s >= 0:
+                    for a in range(m):
+                        pa = k * (PA[j, a] - PA[i, a])
+                        for b in range(m):
+                            Jb[c, a, b] -= pa * syn[s, b]
+            i = j
+    return worst, conv
+
+
+#: Prefix sums of the AFT projections per (synthesis, analysis) pair (a handful per run).
+_PREFIX: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
+
+
+def _prefix_sums(syn: np.ndarray, ana: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``PS[i] = sum_{i' < i} ana[:, i'] syn[i', :]`` (N+1, m, m), ``PA[i] = sum ana[:, i']``."""
+    for s, a, PS, PA in _PREFIX:
+        if s is syn and a is ana and not (s.flags.writeable or a.flags.writeable):
+            return PS, PA               # the same read-only arrays (a HarmonicBasis)
+    for s, a, PS, PA in _PREFIX:
+        if s.shape == syn.shape and np.array_equal(s, syn) and np.array_equal(a, ana):
+            return PS, PA
+    N, m = syn.shape
+    PS = np.zeros((N + 1, m, m))
+    np.cumsum(ana.T[:, :, None] * syn[:, None, :], axis=0, out=PS[1:])
+    PA = np.zeros((N + 1, m))
+    np.cumsum(ana.T, axis=0, out=PA[1:])
+    keep = (syn, ana) if not (syn.flags.writeable or ana.flags.writeable) else (
+        syn.copy(), ana.copy())
+    _PREFIX.insert(0, (*keep, PS, PA))
+    del _PREFIX[4:]
+    return PS, PA
 
 
 class Jenkins(ContactLaw):
@@ -221,3 +340,45 @@ class Jenkins(ContactLaw):
             jac = jac[:, :, None, None, :]
         return PeriodicResponse(f[:, :, None], jac, w[:, None], int(np.max(np.abs(periods))),
                                 bool(np.all(periods > 0)))
+
+    def harmonic_response(self, coeffs, synthesis, analysis, *, jacobian=True, state=None,
+                          max_periods: int = 50) -> HarmonicResponse:
+        """The AFT step in one compiled call (:func:`jenkins_harmonic_kernel`); equal to
+        :meth:`periodic_response` projected by ``analysis`` to rounding. See
+        :meth:`ContactLaw.harmonic_response`."""
+        c = np.ascontiguousarray(coeffs, dtype=float)
+        batch = c.shape[:-3]
+        syn = np.ascontiguousarray(synthesis, dtype=float)
+        ana = np.ascontiguousarray(analysis, dtype=float)
+        N, m = syn.shape
+        if c.ndim < 3 or c.shape[-3:] != (self.n_contacts, 1, m) or ana.shape != (m, N):
+            raise ModelError(f"coeffs (..., {self.n_contacts}, 1, {m}) and analysis ({m}, {N}) "
+                             f"must match synthesis {syn.shape}; got {c.shape}, {ana.shape}")
+        copies = int(np.prod(batch)) if batch else 1
+        nc = self.n_contacts * copies
+        U = c.reshape(nc, m)
+        kt, fs = self.stiffness, self.slip_force
+        if copies > 1:
+            kt, fs = np.tile(kt, copies), np.tile(fs, copies)
+        w0 = (np.zeros(nc) if state is None else
+              np.ascontiguousarray(np.broadcast_to(np.asarray(state, float)[..., 0],
+                                                   batch + (self.n_contacts,)).reshape(nc)))
+        if jacobian:
+            PS, PA = _prefix_sums(syn, ana)
+            Jb = np.empty((nc, m, m))
+        else:
+            PS, PA = np.zeros((1, 1, 1)), np.zeros((1, 1))
+            Jb = np.empty((0, 1, 1))
+        F = np.empty((nc, m))
+        u_t = np.empty((N, nc))
+        f_t = np.empty((N, nc))
+        w = np.empty(nc)
+        periods, conv = jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA,
+                                                max(int(max_periods), 1), bool(jacobian), F,
+                                                Jb, u_t, f_t, w)
+        shape = batch + (self.n_contacts,)
+        return HarmonicResponse(F.reshape(shape + (1, m)),
+                                Jb.reshape(shape + (m, m)) if jacobian else None,
+                                u_t.reshape((N,) + shape + (1,)),
+                                f_t.reshape((N,) + shape + (1,)), w.reshape(shape + (1,)),
+                                int(periods), bool(conv))

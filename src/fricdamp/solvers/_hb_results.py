@@ -9,22 +9,53 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from fricdamp.solvers._hb_formulations import _Setup
 from fricdamp.solvers.aft import _synthesis, aft, cycle_work
 
 
+def _dofs_times(A, X: np.ndarray) -> np.ndarray:
+    """``A @ X[p]`` for every point p of X (n_p, n, nh), as one sparse (or dense) product."""
+    n_p, n, nh = X.shape
+    Y = A @ X.transpose(1, 0, 2).reshape(n, n_p * nh)
+    return np.asarray(Y).reshape(-1, n_p, nh).transpose(1, 0, 2)
+
+
+def _contact_forces(s: _Setup, U: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    """Harmonics of the contact forces (n_p, n_rows, nh) of the points U (n_p, n_rows, nh).
+
+    Elements whose law has a compiled AFT step
+    (:meth:`fricdamp.contact.base.ContactLaw.harmonic_response`, rate independent) are
+    evaluated for all points in one call (the points as a leading batch axis); the others
+    point by point through :func:`aft`.
+    """
+    from fricdamp.solvers.aft import element_rows
+
+    n_p = U.shape[0]
+    Fn = np.zeros_like(U)
+    if not s.n_rows or not n_p:
+        return Fn
+    for c, rows in zip(s.contacts, element_rows(s.contacts), strict=True):
+        nc, nd = c.n_contacts, c.n_dir
+        hr = None
+        if not c.law.velocity_dependent:
+            hr = c.law.harmonic_response(U[:, rows].reshape(n_p, nc, nd, s.nh),
+                                         s.basis.synthesis, s.basis.analysis, jacobian=False)
+        if hr is not None:
+            Fn[:, rows] = hr.force.reshape(n_p, nc * nd, s.nh)
+            continue
+        for p in range(n_p):
+            Fn[p, rows] = aft((c,), U[p, rows], float(omega[p]), s.basis,
+                              jacobian=False).force
+    return Fn
+
+
 def _postprocess(s: _Setup, X: np.ndarray, omega: np.ndarray, xi=None, load_scale=None):
     """Contact forces, energies and amplitudes of steady states X (n_p, n, nh)."""
     n_p = X.shape[0]
-    nh = s.nh
-    U = np.zeros((n_p, s.n_rows, nh))
-    for p in range(n_p):
-        U[p] = s.P @ X[p]
-    Fn = np.zeros_like(U)
-    for p in range(n_p):
-        if s.n_rows:
-            Fn[p] = aft(s.contacts, U[p], float(omega[p]), s.basis, jacobian=False).force
+    U = _dofs_times(s.P, X) if n_p else np.zeros((0, s.n_rows, s.nh))
+    Fn = _contact_forces(s, U, omega)
     Wrow = cycle_work(U, Fn)                                         # (n_p, n_rows)
     Wc = np.zeros((n_p, s.n_contacts))
     if s.n_rows:
@@ -35,9 +66,9 @@ def _postprocess(s: _Setup, X: np.ndarray, omega: np.ndarray, xi=None, load_scal
     # viscous: Omega * pi * sum_k k^2 (a^T D a + b^T D b)
     Dd = s.D
     dX = X @ s.basis.d_dtau.T                                       # coefficients of dq/dtau
-    DdX = np.stack([np.asarray(Dd @ dX[p]) for p in range(n_p)]) if n_p else dX
+    DdX = _dofs_times(Dd, dX) if n_p else dX
     W_visc = omega * np.pi * np.einsum("pnh,pnh->p", dX[:, :, 1:], DdX[:, :, 1:])
-    MdX = np.stack([np.asarray(s.M @ dX[p]) for p in range(n_p)]) if n_p else dX
+    MdX = _dofs_times(s.M, dX) if n_p else dX
     # 2 pi x mean kinetic energy over the cycle [J]: the floor of the balance error
     E_kin = omega**2 * np.pi * np.einsum("pnh,pnh->p", dX[:, :, 1:], MdX[:, :, 1:])
     W_neg = None if xi is None else xi / omega * E_kin
@@ -50,30 +81,57 @@ def peak_amplitude(X: np.ndarray, n_grid: int = 128) -> np.ndarray:
     """``max_tau |x(tau) - c0|`` of signals with coefficients X (..., 2H+1), shape (...).
 
     Grid search on ``n_grid`` phases, then three Newton steps on dx/dtau = 0 from the best
-    sample (the extremum of a trigonometric polynomial to machine precision).
+    sample (the extremum of a trigonometric polynomial to machine precision); compiled
+    (:func:`_peak_kernel`), one pass per signal.
     """
     X = np.asarray(X, dtype=float)
     shape = X.shape[:-1]
-    C = X.reshape(-1, X.shape[-1]).copy()
-    C[:, 0] = 0.0
+    C = np.ascontiguousarray(X.reshape(-1, X.shape[-1]))
     H = (C.shape[1] - 1) // 2
     if C.shape[0] == 0:
         return np.zeros(shape)
-    xs = C @ _fine_synthesis(H, n_grid).T                       # (m, n_grid)
-    i = np.argmax(np.abs(xs), axis=1)
-    sgn = np.sign(xs[np.arange(C.shape[0]), i])
-    tau = 2 * np.pi * i / n_grid
-    k = np.arange(1, H + 1)
-    a, b = C[:, 1::2], C[:, 2::2]
-    for _ in range(3):
-        ck, sk = np.cos(np.outer(tau, k)), np.sin(np.outer(tau, k))
-        d1 = np.sum(k * (-a * sk + b * ck), axis=1)
-        d2 = np.sum(-(k**2) * (a * ck + b * sk), axis=1)
-        ok = d2 * sgn < 0
-        tau = np.where(ok, tau - d1 / np.where(ok, d2, 1.0), tau)
-    ck, sk = np.cos(np.outer(tau, k)), np.sin(np.outer(tau, k))
-    val = np.abs(np.sum(a * ck + b * sk, axis=1))
-    return np.maximum(val, np.abs(xs).max(axis=1)).reshape(shape)
+    out = np.empty(C.shape[0])
+    _peak_kernel(C, _fine_synthesis(H, n_grid), out)
+    return out.reshape(shape)
+
+
+@njit(cache=True, nogil=True)
+def _peak_kernel(C, S, out):  # pragma: no cover - compiled
+    """:func:`peak_amplitude` of the rows of C (m, 2H+1) with the grid synthesis S."""
+    m, nc = C.shape
+    H = (nc - 1) // 2
+    n_grid = S.shape[0]
+    for j in range(m):
+        best = -1.0
+        ib = 0
+        xb = 0.0
+        for i in range(n_grid):
+            v = 0.0
+            for h in range(1, nc):
+                v += C[j, h] * S[i, h]
+            a = abs(v)
+            if a > best:
+                best = a
+                ib = i
+                xb = v
+        sgn = 1.0 if xb > 0 else (-1.0 if xb < 0 else 0.0)
+        tau = 2.0 * np.pi * ib / n_grid
+        for _ in range(3):
+            d1 = 0.0
+            d2 = 0.0
+            for k in range(1, H + 1):
+                c = np.cos(k * tau)
+                s = np.sin(k * tau)
+                a = C[j, 2 * k - 1]
+                b = C[j, 2 * k]
+                d1 += k * (-a * s + b * c)
+                d2 += -(k * k) * (a * c + b * s)
+            if d2 * sgn < 0:
+                tau = tau - d1 / d2
+        v = 0.0
+        for k in range(1, H + 1):
+            v += C[j, 2 * k - 1] * np.cos(k * tau) + C[j, 2 * k] * np.sin(k * tau)
+        out[j] = max(abs(v), best)
 
 
 _FINE: dict[int, np.ndarray] = {}

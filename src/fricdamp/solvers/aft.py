@@ -11,7 +11,9 @@ is periodic (:meth:`fricdamp.contact.base.ContactLaw.periodic_response`) and pro
 force samples back onto the harmonics (DFT). The Jacobian follows from the law's exact
 sensitivity of the periodic force samples to the displacement coefficients, projected by
 the same DFT, so it is the exact derivative of the discrete residual. All contacts of a
-contact element go through one call (vectorised; no per-contact Python loop).
+contact element go through one call (vectorised; no per-contact Python loop); a law with a
+compiled AFT step (:meth:`fricdamp.contact.base.ContactLaw.harmonic_response`, e.g. Jenkins)
+does the synthesis, the march and both projections in that call.
 
 With ``N > 2H`` the trapezoidal rule is exact for trigonometric polynomials of degree < N,
 which makes the discrete work identities used by :func:`cycle_work` exact.
@@ -213,27 +215,43 @@ def aft(contacts: Sequence[ContactElement], u_coeffs: np.ndarray, omega: float,
     u_coeffs = np.asarray(u_coeffs, dtype=float)
     n_h = basis.n_coeff
     N = basis.samples
-    u_time = basis.synthesis @ u_coeffs.T            # (N, n_rows)
-    v_time = None
-    f_time = np.empty_like(u_time)
+    n_rows = u_coeffs.shape[0]
+    u_time = np.empty((N, n_rows))
+    f_time = np.empty((N, n_rows))
+    force = np.empty((n_rows, n_h))
     blocks = [] if jacobian else None
     d_omega = None
     conv, periods = True, 0
     for e, (c, rows) in enumerate(zip(contacts, element_rows(contacts), strict=True)):
         nc, nd = c.n_contacts, c.n_dir
         law = c.law
-        u3 = u_time[:, rows].reshape(N, nc, nd)
+        st = None if states is None else states[e]
+        if not law.velocity_dependent:
+            # a law with a compiled AFT step (synthesis, march, projections in one call)
+            hr = law.harmonic_response(u_coeffs[rows].reshape(nc, nd, n_h), basis.synthesis,
+                                       basis.analysis, jacobian=jacobian, state=st,
+                                       max_periods=max_periods)
+            if hr is not None:
+                u_time[:, rows] = hr.u_time.reshape(N, nc * nd)
+                f_time[:, rows] = hr.force_time.reshape(N, nc * nd)
+                force[rows] = hr.force.reshape(nc * nd, n_h)
+                conv = conv and hr.converged
+                periods = max(periods, hr.periods)
+                if jacobian:
+                    blocks.append(hr.jacobian)
+                continue
+        u_rows = basis.synthesis @ u_coeffs[rows].T                # (N, nc * nd)
+        u_time[:, rows] = u_rows
+        u3 = u_rows.reshape(N, nc, nd)
         v3 = None
         vb = None
         if law.velocity_dependent:
-            if v_time is None:
-                v_time = omega * (basis.derivative @ u_coeffs.T)
-            v3 = v_time[:, rows].reshape(N, nc, nd)
+            v3 = (omega * (basis.derivative @ u_coeffs[rows].T)).reshape(N, nc, nd)
             vb = omega * basis.derivative
-        st = None if states is None else states[e]
         res = law.periodic_response(u3, v3, basis=basis.synthesis if jacobian else None,
                                     velocity_basis=vb, state=st, max_periods=max_periods)
         f_time[:, rows] = res.force.reshape(N, nc * nd)
+        force[rows] = (basis.analysis @ f_time[:, rows]).T
         conv = conv and res.converged
         periods = max(periods, res.periods)
         if jacobian:
@@ -248,9 +266,8 @@ def aft(contacts: Sequence[ContactElement], u_coeffs: np.ndarray, omega: float,
                                        max_periods=max_periods)
             df = (rp.force - res.force).reshape(N, nc * nd) / (delta * omega)
             if d_omega is None:
-                d_omega = np.zeros((u_coeffs.shape[0], n_h))
+                d_omega = np.zeros((n_rows, n_h))
             d_omega[rows] = (basis.analysis @ df).T
-    force = (basis.analysis @ f_time).T
     return AFTResult(force, blocks, d_omega, u_time, f_time, conv, periods)
 
 

@@ -99,14 +99,19 @@ class _Ordering:
     recomputed, 3.8 ms reusing the order (benchmarks/bench_hb_ring.py).
     """
 
-    __slots__ = ("indptr", "indices", "n", "trials", "perm", "map", "B")
+    __slots__ = ("indptr", "indices", "n", "trials", "perm", "map", "B", "block")
 
-    def __init__(self, A):
+    def __init__(self, A, block_size: int | None = None):
         self.indptr = A.indptr.copy()
         self.indices = A.indices.copy()
         self.n = A.shape[0]
         self.trials = []            # (fill, perm or None)
         self.perm = self.map = self.B = None
+        self.block = None
+        if block_size is not None and block_size > 1:
+            from fricdamp.solvers._sparse_lu import BlockLU
+
+            self.block = BlockLU(A, block_size)
 
     def matches(self, A) -> bool:
         return (A.shape[0] == self.n and A.indptr.size == self.indptr.size
@@ -126,6 +131,20 @@ class _Ordering:
         B.data = np.empty(self.map.size)
         self.B = B
         self.perm = perm
+
+    def factor_block(self, A):
+        """Dense-block factors (:mod:`fricdamp.solvers._sparse_lu`) of a matrix of this
+        pattern, or None: no block analysis, or a pivot failed the threshold rule (then
+        SuperLU pivots across blocks). After 20 failures in more than a quarter of the
+        factorisations the block path is given up for this pattern."""
+        b = self.block
+        if b is None:
+            return None
+        F = b.factor(A.data)
+        if F is None and b.failures > max(20, b.calls // 4):
+            logger.debug("block LU: %d pivot failures, SuperLU from now on", b.failures)
+            self.block = None
+        return F
 
     def factor(self, A):
         """(SuperLU object, permutation or None) for a matrix of this pattern."""
@@ -153,18 +172,42 @@ class _Ordering:
         return spla.splu(self.B, permc_spec="NATURAL", diag_pivot_thresh=1e-3), self.perm
 
 
-class _Orderings:
-    """The orderings of the patterns met in one solve (usually one or two)."""
+def mark_fixed_pattern(A):
+    """Promise that the sparsity pattern of the scipy matrix object ``A`` (its ``indptr`` and
+    ``indices``) never changes, only its ``data``: a matrix object seen again is then not
+    compared entry by entry with the pattern of its analysis (~0.1 ms per factorisation at
+    10^4 entries). Returns ``A``."""
+    A._fricdamp_fixed_pattern = True
+    return A
 
-    def __init__(self):
+
+def _fixed_pattern(A) -> bool:
+    return getattr(A, "_fricdamp_fixed_pattern", False)
+
+
+class _Orderings:
+    """The orderings of the patterns met in one solve (usually one or two).
+
+    ``block_size``: factorise by dense blocks of this many consecutive unknowns (the 2H+1
+    harmonics of a DOF for harmonic balance; :mod:`fricdamp.solvers._sparse_lu`), the
+    symbolic analysis kept per pattern; None: SuperLU only.
+    """
+
+    def __init__(self, block_size: int | None = None):
         self.items: list[_Ordering] = []
+        self.block_size = block_size
+        self._last = (None, None)
 
     def get(self, A) -> _Ordering:
+        if A is self._last[0] and _fixed_pattern(A):
+            return self._last[1]
         for o in self.items:
             if o.matches(A):
-                return o
-        o = _Ordering(A)
-        self.items = [o] + self.items[:3]
+                break
+        else:
+            o = _Ordering(A, self.block_size)
+            self.items = [o] + self.items[:3]
+        self._last = (A, o)
         return o
 
 
@@ -172,16 +215,19 @@ class _Factor:
     """LU factorisation of a dense or sparse square matrix; ``ok`` False if singular.
 
     ``orderings`` (sparse only): an :class:`_Orderings` shared by the factorisations of one
-    solve, so that the fill-reducing ordering of a pattern is computed once.
+    solve, so that the fill-reducing ordering of a pattern is computed once; with its
+    ``block_size``, the dense-block LU of :mod:`fricdamp.solvers._sparse_lu` is tried first
+    (SuperLU if a pivot fails its threshold rule).
     """
 
-    __slots__ = ("lu", "sparse", "ok", "A", "checked", "perm")
+    __slots__ = ("lu", "sparse", "ok", "A", "checked", "perm", "block")
 
     def __init__(self, A, orderings: _Orderings | None = None):
         self.sparse = sp.issparse(A)
         self.ok = True
         self.checked = False
         self.perm = None
+        self.block = None
         try:
             if self.sparse:
                 # threshold pivoting (prefer the diagonal unless 1000x smaller than the column
@@ -192,7 +238,10 @@ class _Factor:
                 if orderings is not None:
                     if not self.A.has_sorted_indices:
                         self.A = self.A.sorted_indices()
-                    self.lu, self.perm = orderings.get(self.A).factor(self.A)
+                    o = orderings.get(self.A)
+                    self.block = o.factor_block(self.A)
+                    if self.block is None:
+                        self.lu, self.perm = o.factor(self.A)
                 else:
                     self.lu = spla.splu(self.A, permc_spec="MMD_AT_PLUS_A",
                                         diag_pivot_thresh=1e-3)
@@ -214,7 +263,9 @@ class _Factor:
 
         A symmetric permutation ``A[p][:, p]`` has the determinant of ``A``.
         """
-        if self.sparse:
+        if self.block is not None:
+            d, sign = self.block.diagonal_and_sign()
+        elif self.sparse:
             d = self.lu.U.diagonal()
             sign = _perm_sign(self.lu.perm_r) * _perm_sign(self.lu.perm_c)
         else:
@@ -227,6 +278,8 @@ class _Factor:
         return float(sign), float(np.sum(np.log(np.abs(d))))
 
     def _lu_solve(self, b):
+        if self.block is not None:
+            return self.block.solve(b)
         if self.perm is None:
             return self.lu.solve(b)
         y = self.lu.solve(b[self.perm])
@@ -240,12 +293,20 @@ class _Factor:
         x = self._lu_solve(b)
         if not self.checked:
             self.checked = True
-            res = np.max(np.abs(self.A @ x - b))
+            if self.block is not None and b.ndim == 1:
+                from fricdamp.solvers._sparse_lu import csc_residual_norm
+
+                A = self.A
+                res = csc_residual_norm(A.shape[0], A.indptr, A.indices, A.data, x,
+                                        np.ascontiguousarray(b, dtype=float))
+            else:
+                res = np.max(np.abs(self.A @ x - b))
             scale = np.max(np.abs(b)) + 1e-300
             if not np.isfinite(res) or res > 1e-8 * scale:
                 logger.debug("threshold-pivoted LU inaccurate (%.2e): partial pivoting", res)
                 self.lu = spla.splu(self.A)
                 self.perm = None
+                self.block = None
                 x = self.lu.solve(b)
         return x
 
@@ -273,6 +334,7 @@ class _Bordered:
     def __init__(self):
         self._key = None
         self._A = None
+        self._J = None
 
     def __call__(self, J, c, t, s):
         n = J.shape[0]
@@ -287,8 +349,11 @@ class _Bordered:
         if not J.has_sorted_indices:
             J = J.sorted_indices()
         key = (J.nnz, n)
-        if (self._key != key or not np.array_equal(self._indptr, J.indptr)
-                or not np.array_equal(self._indices, J.indices)):
+        same = (J is self._J and _fixed_pattern(J)) or (
+            self._key == key and np.array_equal(self._indptr, J.indptr)
+            and np.array_equal(self._indices, J.indices))
+        self._J = J
+        if not same:
             self._key = key
             self._indptr = J.indptr.copy()
             self._indices = J.indices.copy()
@@ -308,16 +373,24 @@ class _Bordered:
             self._lastcol = new_indptr[n]
             self._A = None
         data = np.empty(J.nnz + 2 * n + 1)
-        data[self._old] = J.data
-        data[self._extra] = t
-        data[self._lastcol: self._lastcol + n] = c
-        data[-1] = s
+        if n >= 64:
+            from fricdamp.solvers._sparse_lu import bordered_values
+
+            bordered_values(J.data, self._old, self._extra, self._lastcol,
+                            np.ascontiguousarray(c, dtype=float),
+                            np.ascontiguousarray(t, dtype=float), float(s), data)
+        else:
+            data[self._old] = J.data
+            data[self._extra] = t
+            data[self._lastcol: self._lastcol + n] = c
+            data[-1] = s
         # the bordered matrix is factorised at once; reuse one object (format checks of a
         # new scipy matrix cost ~0.1 ms per Newton step)
         if self._A is None:
             self._A = sp.csc_matrix((data, self._new_indices, self._new_indptr),
                                     shape=(n + 1, n + 1))
             self._A.has_sorted_indices = True
+            mark_fixed_pattern(self._A)
         else:
             self._A.data = data
         return self._A
@@ -355,7 +428,8 @@ class NewtonResult:
 
 
 def newton(fun: Callable, x0, *, tol: float = 1e-10, max_iter: int = 50,
-           line_search: bool = True, step_tol: float = 0.0) -> NewtonResult:
+           line_search: bool = True, step_tol: float = 0.0,
+           block_size: int | None = None) -> NewtonResult:
     """Solve ``fun(x) = 0`` by Newton's method with optional backtracking.
 
     Parameters
@@ -373,6 +447,9 @@ def newton(fun: Callable, x0, *, tol: float = 1e-10, max_iter: int = 50,
         the solution and across the kinks of stick-slip residuals.
     step_tol : float
         Also stop successfully when ``max |dx| <= step_tol`` and ``|r| <= 1e3 tol``.
+    block_size : int, optional
+        Sparse Jacobians: factorise by dense blocks of this many consecutive unknowns
+        (see :func:`solve_and_continue`).
 
     Returns
     -------
@@ -382,7 +459,7 @@ def newton(fun: Callable, x0, *, tol: float = 1e-10, max_iter: int = 50,
     r, J = fun(x)
     nev = 1
     rn = _norm(r)
-    orderings = _Orderings()
+    orderings = _Orderings(block_size)
     for it in range(max_iter + 1):
         if not np.isfinite(rn):
             return NewtonResult(x, False, "residual is not finite", it, rn, nev)
@@ -477,7 +554,8 @@ def solve_and_continue(x0, residual: Callable, lam_start: float, lam_end: float,
                        max_angle_deg: float = 25.0, reversal_tolerance: float = 0.1,
                        start_max_iter: int = 100, callback: Callable | None = None,
                        test_functions: bool = False, reuse_factorization: bool = False,
-                       blas: int | None = 1, throw: bool = False) -> ContinuationResult:
+                       blas: int | None = 1, block_size: int | None = None,
+                       throw: bool = False) -> ContinuationResult:
     """Continue the solutions of ``residual(x, lam) = 0`` from ``lam_start`` to ``lam_end``.
 
     Parameters
@@ -529,6 +607,12 @@ def solve_and_continue(x0, residual: Callable, lam_start: float, lam_end: float,
     blas : int or None
         BLAS threads during the run (default 1, see :func:`blas_threads`); None leaves the
         pools alone.
+    block_size : int, optional
+        Sparse Jacobians whose unknowns come in densely coupled groups of ``block_size``
+        consecutive unknowns (harmonic balance: the 2H+1 coefficients of a DOF) are
+        factorised by dense blocks with the symbolic analysis kept per sparsity pattern
+        (:mod:`fricdamp.solvers._sparse_lu`; SuperLU where a pivot fails the threshold
+        rule). The solutions are the same to rounding; None: SuperLU.
     throw : bool
         Raise ConvergenceError instead of returning a failed status.
 
@@ -548,7 +632,7 @@ def solve_and_continue(x0, residual: Callable, lam_start: float, lam_end: float,
                         float(ds), ds_min, ds_max, x_scale, float(lam_scale), tol, max_iter,
                         max_steps, target_iterations, max_angle_deg, reversal_tolerance,
                         start_max_iter, callback, bool(test_functions),
-                        bool(reuse_factorization))
+                        bool(reuse_factorization), block_size)
     if throw and not out.success:
         raise ConvergenceError(f"continuation failed: {out.message}")
     return out
@@ -582,7 +666,7 @@ def _scaled_residual(residual, n, x_scale, lam_scale, counters):
 
 def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, tol,
               max_iter, max_steps, target_it, max_angle, rev_tol, start_max_iter, callback,
-              test_functions=False, reuse_factorization=False):
+              test_functions=False, reuse_factorization=False, block_size=None):
     n = x0.size
     counters = {"ev": 0, "fact": 0}
     scaled, xs = _scaled_residual(residual, n, x_scale, lam_scale, counters)
@@ -593,7 +677,7 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
     lam_hi = max(lam0, lam1) + rev_tol * abs(lam1 - lam0)
     cos_max = math.cos(math.radians(max_angle))
     border = _Bordered()
-    orderings = _Orderings()
+    orderings = _Orderings(block_size)
     # the determinant test function needs a factorisation at every point: Newton then
     chord = _Chord() if reuse_factorization and not test_functions else None
 
@@ -604,7 +688,8 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
         return f
 
     # ---- first point at lam_start
-    res0 = newton(fixed_lam(lam0 / lam_scale), x0 / xs, tol=tol, max_iter=start_max_iter)
+    res0 = newton(fixed_lam(lam0 / lam_scale), x0 / xs, tol=tol, max_iter=start_max_iter,
+                  block_size=block_size)
     counters["ev"] += 0
     if not res0.success:
         msg = f"{STATUS_MESSAGES[-1]} at lam = {lam0:g} ({res0.message})"
@@ -689,7 +774,7 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
             frac = (lam_end_s - y[n]) / (lam_new - y[n]) if lam_new != y[n] else 1.0
             guess = y[:n] + frac * (y_new[:n] - y[:n])
             rese = newton(fixed_lam(lam_end_s), guess, tol=tol, max_iter=max_iter,
-                          line_search=False)
+                          line_search=False, block_size=block_size)
             counters["fact"] += rese.iterations
             if rese.success:
                 y_new = np.append(rese.x, lam_end_s)

@@ -95,6 +95,10 @@ logger = logging.getLogger(__name__)
 #: Chord steps in the continuation corrector (see :func:`solve_and_continue`); a module
 #: switch so that benchmarks and tests can run the Newton corrector as the reference path.
 REUSE_FACTORIZATION = False
+#: Factorise the sparse full Jacobian by dense DOF blocks (2H+1 harmonics) with the symbolic
+#: analysis kept (:mod:`fricdamp.solvers._sparse_lu`); False: SuperLU at every step (the
+#: reference path of the tests).
+BLOCK_LU = True
 
 
 # ============================================================================ drivers
@@ -148,6 +152,13 @@ def _check_size(system, harmonics, samples) -> None:
             samples is None or (isinstance(samples, int) and samples >= 1)):
         rows = sum(c.n_contacts * c.n_dir for c in getattr(system, "contacts", ()))
         check_harmonics_memory(harmonics, samples, int(getattr(system, "n_dof", 1)), rows)
+
+
+def _block_size(form) -> int | None:
+    """Dense blocks of the sparse full Jacobian: the 2H+1 coefficients of a DOF."""
+    if isinstance(form, _Full) and not form.dense and BLOCK_LU:
+        return form.s.nh
+    return None
 
 
 def _method_name(form) -> str:
@@ -217,9 +228,11 @@ def harmonic_balance(system: MechanicalSystem, omega: float, *, harmonics: int =
             r, J, _, _, _ = form.evaluate(x, omega, scale=scale, x_scale=x_ref)
             return r, J
 
+        block = _block_size(form)
+
         best = None
         for g in _initial_guess(s, form, omega, initial_guess):
-            res = newton(fun, g / x_ref, tol=tol, max_iter=max_iter)
+            res = newton(fun, g / x_ref, tol=tol, max_iter=max_iter, block_size=block)
             if best is None or res.residual_norm < best.residual_norm:
                 best = res
             if res.success:
@@ -414,7 +427,8 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
             guesses = [g * scale0 if np.any(s.F_ex[:, 1:]) else g for g in guesses]
         x0 = guesses[0] / x_ref
         for g in guesses:
-            res = newton(lambda x: residual(x, lam0)[:2], g / x_ref, tol=tol, max_iter=100)
+            res = newton(lambda x: residual(x, lam0)[:2], g / x_ref, tol=tol, max_iter=100,
+                         block_size=_block_size(form))
             if res.success:
                 x0 = res.x
                 break
@@ -424,7 +438,7 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
             ds_max=max_step if max_step is not None else 5.0 * step,
             x_scale=1.0, lam_scale=abs(lam1 - lam0), tol=tol,
             max_steps=max_points, max_angle_deg=max_angle_deg, test_functions=stability,
-            reuse_factorization=REUSE_FACTORIZATION, blas=None)
+            reuse_factorization=REUSE_FACTORIZATION, blas=None, block_size=_block_size(form))
         n_p = cres.n_points
         omegas = cres.lam if param == "omega" else np.full(n_p, omega0)
         scales = np.ones(n_p) if param == "omega" else cres.lam.copy()
@@ -441,7 +455,7 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
                         bifurcations=bs.bifurcations, stability_error=bs.exponent_error,
                         stability_converged=bs.verdict_agrees)
         wall = time.perf_counter() - t0
-    pp = _postprocess_in_blocks(s, X, omegas, scales)
+        pp = _postprocess_in_blocks(s, X, omegas, scales)    # one BLAS thread too
     fund = np.hypot(X[:, :, 1], X[:, :, 2])
     err = _balance_error(pp["W_ext"], pp["W_visc"] + pp["W_contact"].sum(axis=1), pp["E_kin"])
     return FrequencyResponse(
