@@ -12,8 +12,12 @@ documented in BladePairParameters) and draws the paper's figures:
 * ``energy.png``        -- Figs 9-11: friction energy per period vs rpm, k = 30, 20, 15,
   four friction coefficients;
 * ``orbits.png``        -- Figs 12-14: orbits of A and B at chosen speeds;
-* ``hb_cross_check.png`` -- equivalent linearisation vs multi-harmonic balance with 2D
-  Jenkins contacts (where they agree: gross slip; where not: near the stick threshold).
+* ``hb_cross_check.png`` -- equivalent linearisation vs multi-harmonic stick-slip HB with
+  2D Jenkins contacts, continued in speed (models/blade_pair_hb.py): where they agree (gross
+  slip) and where not (near the stick threshold).
+
+The Campbell diagrams follow 001 section 4.1 (B_e from the response without friction
+damping), the default of :func:`~fricdamp.models.blade_pair_analyses.campbell_diagram`.
 
 Run: ``python examples/001_blade_pair.py [out_dir]``. ``main(out_dir)`` returns the
 summary (the ``summary.json`` contract of the blade_pair case plus the file names).
@@ -55,10 +59,11 @@ def main(out_dir="out/001_blade_pair", *, n_campbell: int = 100, n_sweep: int = 
     from fricdamp.models.blade_pair import build_blade_pair
     from fricdamp.models.blade_pair_analyses import (
         campbell_diagram,
-        harmonic_balance_cross_check,
         orbits,
         run_blade_pair_case,
+        steady_state_sweep,
     )
+    from fricdamp.models.blade_pair_hb import compare_with_hb, hb_speed_sweep
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -165,15 +170,20 @@ def main(out_dir="out/001_blade_pair", *, n_campbell: int = 100, n_sweep: int = 
 
     # cross-check against multi-harmonic balance with 2D Jenkins contacts
     if cross_check:
-        rpm_x = np.linspace(250.0, 700.0, 10)
-        x = harmonic_balance_cross_check(model, 30, rpm_x, 0.1)
-        summary["hb_cross_check"] = x
+        rpm_x = np.linspace(250.0, 700.0, 19)
+        eq = steady_state_sweep(model, 30, rpm_x, [0.1])[0]
+        hb = hb_speed_sweep(model, 30, rpm_x, 0.1)
+        cmp_ = compare_with_hb(rpm_x, eq["dissipated_energy_J"], eq["tip_amplitude_m"],
+                               hb.dissipated_energy, hb.tip_amplitude.max(axis=1), hb.success)
+        summary["hb_cross_check"] = {"rpm": rpm_x.tolist(), **cmp_}
+        curves = {"eqlin": (np.array(eq["semi_axes_B_m"])[:, 0],
+                            np.asarray(eq["dissipated_energy_J"])),
+                  "hb": (hb.semi_axes[:, 1, 0], hb.dissipated_energy)}
         fig, axs = plt.subplots(1, 2, figsize=(11, 4))
         for meth, style in (("eqlin", "o-"), ("hb", "s--")):
-            axs[0].semilogy(x["rpm"], np.array(x[meth]["semi_axes_B_m"])[:, 0], style,
-                            label=meth)
-            axs[1].semilogy(x["rpm"], np.maximum(x[meth]["dissipated_energy_J"], 1e-14),
-                            style, label=meth)
+            a, W = curves[meth]
+            axs[0].semilogy(rpm_x, np.where(a > 0, a, np.nan), style, label=meth)
+            axs[1].semilogy(rpm_x, np.where(W > 0, W, np.nan), style, label=meth)
         axs[0].set_ylabel("major semi-axis at B [m]")
         axs[1].set_ylabel("friction energy per period [J]")
         for ax in axs:

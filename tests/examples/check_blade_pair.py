@@ -230,10 +230,94 @@ def check(summary: dict, case: dict) -> None:
     k_c, f_c = camp["k"], camp["friction_coefficient"]
     ref = [e for e in ss if e["k"] == k_c and e["friction_coefficient"] == f_c
            and e["rpm"][-1] == camp["rpm"][-1]]
+    # With 001 section 4.1's procedure (damping_source "linear", the default) B_e comes from
+    # the orbit of the response *without* friction damping, larger than the stuck one, so
+    # the damping is smaller and locks less: the branches lie between the free and the
+    # locked frequencies, nearer the locked ones (measured 0.2-2.9 % below them; tolerance
+    # 5 %, and nearer locked than free).
     if camp["friction"] and ref and ref[0]["stuck_A"][-1] and ref[0]["stuck_B"][-1]:
         w = camp["rpm"][-1] * np.pi / 30
         locked_top = natural_frequencies(model.stiffness(w) + 1e14 * P.T @ P, model.M)
-        np.testing.assert_allclose(F[:3, -1], locked_top[:3], rtol=1e-3)
+        if camp["damping_source"] == "converged":
+            np.testing.assert_allclose(F[:3, -1], locked_top[:3], rtol=1e-3)
+        else:
+            free_top = natural_frequencies(model.stiffness(w), model.M)[1:4]
+            np.testing.assert_allclose(F[:3, -1], locked_top[:3], rtol=0.05)
+            assert np.all(np.abs(F[:3, -1] - locked_top[:3]) < np.abs(F[:3, -1] - free_top))
     else:
         pytest.fail("the case must include the Campbell diagram's steady state (k, f) in the "
                     "sweep and reach the speed where it sticks")
+    check_hb_beside_eqlin(summary, case)
+
+
+def check_hb_beside_eqlin(summary: dict, case: dict) -> None:
+    """Issue 16: the multi-harmonic stick-slip HB beside every eqlin sweep.
+
+    References: the ratios and bands are recomputed here from the two curves of the summary;
+    a stuck pair dissipates exactly 0 (never the numerical floor); at the resonance of the
+    smallest friction coefficient (gross slip) HB and eqlin agree within 10 % (measured
+    4.6 % at k = 30, < 2 % at k = 15, 20); the sweeps' energy peaks sit at crossings of
+    k Omega with their own Campbell branches (001 section 4.1) in at least 9 of 12 sweeps
+    (the three others, k = 30 with f >= 0.1, peak where the contacts pass from slip to stick,
+    below the resonance -- docs/cases_blade_pair.md)."""
+    an_s = case["analysis"]["steady_state_sweep"]
+    if not an_s.get("harmonic_balance", True):
+        return
+    ss = summary["steady_state"]
+    thr = an_s.get("disagreement_threshold", 0.1)
+    sec = summary["steady_state_sweep"]
+    flagged_peak = False
+    for e in ss:
+        hb = e["hb"]
+        n = len(e["rpm"])
+        assert hb["rpm"] == e["rpm"]
+        assert len(hb["tip_amplitude_m"]) == len(hb["dissipated_energy_J"]) == n
+        ok = np.asarray(hb["success"], bool)
+        assert ok.mean() >= 0.9, (e["k"], e["friction_coefficient"], ok.mean())
+        assert hb["energy_balance_error"] < 1e-4
+        # stuck pairs: exactly zero friction energy, zero slip (issue 16)
+        both = (np.array(e["stuck_A"]) & np.array(e["stuck_B"])
+                & np.array(e["rotation_stuck_A"]) & np.array(e["rotation_stuck_B"]))
+        W = np.asarray(e["dissipated_energy_J"], float)
+        assert np.all(W[both] == 0.0)
+        for name in "AB":
+            st = np.array(e[f"stuck_{name}"])
+            assert np.all(np.asarray(e[f"semi_axes_{name}_m"])[st] == 0.0)
+        Wh = np.array([np.nan if v is None else v for v in hb["dissipated_energy_J"]])
+        hb_both = np.array(hb["stuck_A"]) & np.array(hb["stuck_B"])
+        assert np.all(Wh[hb_both] == 0.0)
+        # the ratios are eqlin / HB (1e-12), and the flagged speeds are inside the bands
+        r = np.array([np.nan if v is None else v for v in e["eqlin_over_hb_energy"]])
+        both_pos = ok & (W > 0) & (Wh > 0)
+        np.testing.assert_allclose(r[both_pos], W[both_pos] / Wh[both_pos], rtol=1e-12)
+        rpm = np.asarray(e["rpm"])
+        bad = np.asarray(e["disagreement"], bool)
+        inside = np.zeros(n, bool)
+        for lo, hi in e["disagreement_band_rpm"]:
+            inside |= (rpm >= lo) & (rpm <= hi)
+        assert np.array_equal(inside, bad)
+        i = int(np.argmax(W))
+        flagged_peak |= bool(bad[i])
+    # gross slip at the resonance of the smallest f: agreement within 10 %
+    f_min = min(an_s["friction_coefficients"])
+    for e in ss:
+        if e["friction_coefficient"] == f_min:
+            i = int(np.argmax(e["dissipated_energy_J"]))
+            assert abs(e["eqlin_over_hb_energy"][i] - 1) < thr, (e["k"], i)
+            assert abs(e["eqlin_over_hb_tip_amplitude"][i] - 1) < thr, (e["k"], i)
+    # energy peaks at Campbell crossings (issue 16 asks for >= 9 of 12)
+    pc = sec["peaks_at_campbell_crossings"]
+    assert pc["sweeps"] == len(ss)
+    if len(ss) == 12:
+        assert pc["eqlin"] >= 9, pc
+    for p in sec["peaks"].values():
+        near = [c for c in p["campbell_crossings_rpm"]
+                if abs(c - p["peak_rpm"]) <= (rpm[1] - rpm[0]) * (1 + 1e-9)]
+        assert p["peak_at_crossing"] == bool(near)
+    # the verdict follows the peaks: unreliable exactly when a peak is flagged (or lift-off)
+    lift = max(p["max_normal_force_ratio"] for p in sec["peaks"].values()) >= 1.0
+    status = summary["verdict"]["analyses"]["steady_state_sweep"]["verdict"]
+    assert (status == "unreliable") == (flagged_peak or lift or not sec["all_converged"])
+    # the stick stiffness in the eqlin law moves it towards HB: fewer flagged speeds
+    if "disagreement_speeds_stick_stiffness" in sec:
+        assert sec["disagreement_speeds_stick_stiffness"] < sec["disagreement_speeds"]

@@ -526,14 +526,23 @@ def run_campbell(model: BladePairCaseModel, spec: CampbellAnalysis,
     headline = (f"{len(camp['rpm'])} speeds {rpm[0]:g}-{rpm[-1]:g} rpm, {F.shape[0]} branches"
                 + (f"; first {f0:.4g} Hz at {rpm[0]:g} rpm" if np.isfinite(f0) else "")
                 + (f"; {k_s} Omega meets branch {near[1]} at {near[0]:.0f} rpm" if near else "")
-                + (f", next to the k = {k_s}, f = {f:g} friction-energy peak at "
-                   f"{peak_rpm:.0f} rpm" if near and peak_rpm is not None else ""))
+                + (_peak_phrase(k_s, f, peak_rpm, near[0], r_pos)
+                   if near and peak_rpm is not None else ""))
 
     def figures():
         return _campbell_figures(camp, modes, spec)
 
     return AnalysisOutput(summary=camp, arrays=arrays, figures=figures, headline=headline,
                           top_level={"n_dof": obj.n_dof})
+
+
+def _peak_phrase(k: int, f: float, peak_rpm: float, cross_rpm: float, rpm) -> str:
+    """Headline clause relating the steady state's energy peak to the nearest crossing."""
+    step = float(np.max(np.diff(rpm))) if len(rpm) > 1 else 0.0
+    if abs(cross_rpm - peak_rpm) <= step:
+        return f", at the k = {k}, f = {f:g} friction-energy peak ({peak_rpm:.0f} rpm)"
+    return (f"; the k = {k}, f = {f:g} friction-energy peak ({peak_rpm:.0f} rpm) is not at a "
+            "crossing (a slip/stick optimum, not a resonance)")
 
 
 def _campbell_axes(ax, camp: dict, fmax: float) -> None:
