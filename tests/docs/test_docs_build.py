@@ -5,10 +5,10 @@
   ``tests/validation``, and the gallery, whose scripts are executed by the build and check
   their own numbers (a failing ``assert`` fails the build). Any line of the build's log at
   WARNING level or above fails the test, even one that strict mode would let through.
-* Every ```` ```python ```` block of the hand-written pages (front page, getting started,
-  user guide, periodic orbits) runs: the blocks of one page in order, in one namespace,
-  as a user pasting them into one script would. Illustrations that must not run are
-  fenced as ``text`` or ``pycon``.
+* Every ```` ```python ```` block of the README and of the hand-written pages (front page,
+  getting started, user guide, periodic orbits) runs: the blocks of one page in order, in
+  one namespace, as a user pasting them into one script would. Illustrations that must not
+  run are fenced as ``text`` or ``pycon``.
 
 Needs the ``[docs]`` extra (``pip install -e ".[docs]"``).
 """
@@ -31,8 +31,8 @@ DOCS = ROOT / "docs"
 #: minutes, which their own tests cover).
 _BLOCK = re.compile(r"^```python[^\n]*\n(.*?)^```", re.S | re.M)
 SNIPPET_PAGES = sorted(
-    p for p in [DOCS / "index.md", DOCS / "getting-started.md", DOCS / "periodic_orbits.md",
-                *(DOCS / "guide").glob("*.md")]
+    p for p in [ROOT / "README.md", DOCS / "index.md", DOCS / "getting-started.md",
+                DOCS / "periodic_orbits.md", *(DOCS / "guide").glob("*.md")]
     if _BLOCK.search(p.read_text(encoding="utf-8")))
 
 
@@ -64,7 +64,7 @@ def test_docs_build_strict(tmp_path):
         assert test_file.name in validation, f"{test_file.name} missing from the table"
 
 
-@pytest.mark.parametrize("page", SNIPPET_PAGES, ids=lambda p: p.relative_to(DOCS).as_posix())
+@pytest.mark.parametrize("page", SNIPPET_PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
 def test_page_snippets_run(page, tmp_path):
     blocks = _BLOCK.findall(page.read_text(encoding="utf-8"))
     source = "\n\n".join(textwrap.dedent(b) for b in blocks)
