@@ -118,13 +118,14 @@ def jenkins_periodic_jacobian(anchor, kt, basis, jac):  # pragma: no cover - com
 
 
 @njit(cache=True, nogil=True)
-def jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA, max_periods, jacobian, F, Jb,
-                            u_t, f_t, w_out):  # pragma: no cover - compiled
+def jenkins_harmonic_kernel(U, kt, fs, w0, syn, synT, anaT, PS, PA, max_periods, jacobian,
+                            F, Jb, u_t, f_t, w_out):  # pragma: no cover - compiled
     """The AFT step of Jenkins elements from coefficients, all contacts in one call.
 
-    U: (n_c, m) displacement coefficients; syn (N, m), ana (m, N) synthesis and analysis;
-    PS (N+1, m, m), PA (N+1, m) prefix sums over the samples of ``ana[:, i] syn[i, :]`` and
-    ``ana[:, i]``. Writes the samples u_t, f_t (N, n_c), the force coefficients F (n_c, m),
+    U: (n_c, m) displacement coefficients; syn (N, m) the synthesis, synT its transpose
+    and anaT (N, m) the transposed analysis (C-contiguous); PS (N+1, m, m), PA (N+1, m)
+    prefix sums over the samples of ``ana[:, i] syn[i, :]`` and
+    ``ana[:, i]``. Writes the samples u_t, f_t (n_c, N), the force coefficients F (n_c, m),
     the Jacobian blocks Jb (n_c, m, m) if ``jacobian`` and the periodic start states w_out.
     The march is that of :func:`jenkins_periodic_kernel`; the Jacobian is ``ana @ jac`` with
     the sample sensitivities of :func:`jenkins_periodic_jacobian`, summed over the runs of
@@ -136,14 +137,23 @@ def jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA, max_periods, jacobi
     nc, m = U.shape
     N = syn.shape[0]
     anchor = np.empty(N, np.int64)
+    u = np.empty(N)
+    fc = np.empty(m)
     worst = 0
     conv = True
     for c in range(nc):
+        # u = syn @ U[c], as sums over h in order, vectorised over the samples
+        a = U[c, 0]
         for i in range(N):
-            acc = 0.0
-            for h in range(m):
-                acc += syn[i, h] * U[c, h]
-            u_t[i, c] = acc
+            u[i] = synT[0, i] * a
+        for h in range(1, m):
+            a = U[c, h]
+            for i in range(N):
+                u[i] += synT[h, i] * a
+        ut = u_t[c]
+        for i in range(N):
+            ut[i] = u[i]
+        ft = f_t[c]
         w = w0[c]
         last = -2
         k = kt[c]
@@ -152,7 +162,7 @@ def jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA, max_periods, jacobi
         for p in range(max_periods):
             w_begin = w
             for i in range(N):
-                ui = u_t[i, c]
+                ui = u[i]
                 f = k * (ui - w)
                 if lim <= 0.0:
                     f = 0.0
@@ -171,7 +181,7 @@ def jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA, max_periods, jacobi
                     anchor[i] = -1
                 else:
                     anchor[i] = last
-                f_t[i, c] = f
+                ft[i] = f
             if w == w_begin:
                 got = p + 1
                 w_out[c] = w_begin
@@ -182,16 +192,21 @@ def jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA, max_periods, jacobi
             conv = False
         if abs(got) > worst:
             worst = abs(got)
+        # F[c] = ana @ f, as sums over the samples in order, vectorised over h
         for h in range(m):
-            acc = 0.0
-            for i in range(N):
-                acc += ana[h, i] * f_t[i, c]
-            F[c, h] = acc
+            fc[h] = 0.0
+        for i in range(N):
+            fi = ft[i]
+            for h in range(m):
+                fc[h] += anaT[i, h] * fi
+        for h in range(m):
+            F[c, h] = fc[h]
         if not jacobian:
             continue
-        for a in range(m):
-            for b in range(m):
-                Jb[c, a, b] = 0.0
+        # flat views of the blocks: the compiler vectorises these loops
+        Jc = Jb[c].reshape(m * m)
+        for q in range(m * m):
+            Jc[q] = 0.0
         i = 0
         while i < N:
             s = anchor[i]
@@ -199,30 +214,33 @@ def jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA, max_periods, jacobi
             while j < N and anchor[j] == s:
                 j += 1
             if s != -1:
-                for a in range(m):
-                    for b in range(m):
-                        Jb[c, a, b] += k * (PS[j, a, b] - PS[i, a, b])
+                Pj = PS[j].reshape(m * m)
+                Pi = PS[i].reshape(m * m)
+                for q in range(m * m):
+                    Jc[q] += k * (Pj[q] - Pi[q])
                 if s >= 0:
+                    row = syn[s]
                     for a in range(m):
                         pa = k * (PA[j, a] - PA[i, a])
                         for b in range(m):
-                            Jb[c, a, b] -= pa * syn[s, b]
+                            Jc[a * m + b] -= pa * row[b]
             i = j
     return worst, conv
 
 
-#: Prefix sums of the AFT projections per (synthesis, analysis) pair (a handful per run).
-_PREFIX: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
+#: Prefix sums and transposes of the AFT projections per (synthesis, analysis) pair.
+_PREFIX: list[tuple[np.ndarray, ...]] = []
 
 
-def _prefix_sums(syn: np.ndarray, ana: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``PS[i] = sum_{i' < i} ana[:, i'] syn[i', :]`` (N+1, m, m), ``PA[i] = sum ana[:, i']``."""
-    for s, a, PS, PA in _PREFIX:
+def _prefix_sums(syn: np.ndarray, ana: np.ndarray) -> tuple[np.ndarray, ...]:
+    """``PS[i] = sum_{i' < i} ana[:, i'] syn[i', :]`` (N+1, m, m), ``PA[i] = sum ana[:, i']``
+    and the C-contiguous transposes of ``syn`` and ``ana``."""
+    for s, a, *out in _PREFIX:
         if s is syn and a is ana and not (s.flags.writeable or a.flags.writeable):
-            return PS, PA               # the same read-only arrays (a HarmonicBasis)
-    for s, a, PS, PA in _PREFIX:
+            return out                  # the same read-only arrays (a HarmonicBasis)
+    for s, a, *out in _PREFIX:
         if s.shape == syn.shape and np.array_equal(s, syn) and np.array_equal(a, ana):
-            return PS, PA
+            return out
     N, m = syn.shape
     PS = np.zeros((N + 1, m, m))
     np.cumsum(ana.T[:, :, None] * syn[:, None, :], axis=0, out=PS[1:])
@@ -230,9 +248,10 @@ def _prefix_sums(syn: np.ndarray, ana: np.ndarray) -> tuple[np.ndarray, np.ndarr
     np.cumsum(ana.T, axis=0, out=PA[1:])
     keep = (syn, ana) if not (syn.flags.writeable or ana.flags.writeable) else (
         syn.copy(), ana.copy())
-    _PREFIX.insert(0, (*keep, PS, PA))
+    out = (PS, PA, np.ascontiguousarray(syn.T), np.ascontiguousarray(ana.T))
+    _PREFIX.insert(0, (*keep, *out))
     del _PREFIX[4:]
-    return PS, PA
+    return out
 
 
 class Jenkins(ContactLaw):
@@ -363,22 +382,18 @@ class Jenkins(ContactLaw):
         w0 = (np.zeros(nc) if state is None else
               np.ascontiguousarray(np.broadcast_to(np.asarray(state, float)[..., 0],
                                                    batch + (self.n_contacts,)).reshape(nc)))
-        if jacobian:
-            PS, PA = _prefix_sums(syn, ana)
-            Jb = np.empty((nc, m, m))
-        else:
-            PS, PA = np.zeros((1, 1, 1)), np.zeros((1, 1))
-            Jb = np.empty((0, 1, 1))
+        PS, PA, synT, anaT = _prefix_sums(syn, ana)
+        Jb = np.empty((nc, m, m) if jacobian else (0, 1, 1))
         F = np.empty((nc, m))
-        u_t = np.empty((N, nc))
-        f_t = np.empty((N, nc))
+        u_t = np.empty((nc, N))
+        f_t = np.empty((nc, N))
         w = np.empty(nc)
-        periods, conv = jenkins_harmonic_kernel(U, kt, fs, w0, syn, ana, PS, PA,
+        periods, conv = jenkins_harmonic_kernel(U, kt, fs, w0, syn, synT, anaT, PS, PA,
                                                 max(int(max_periods), 1), bool(jacobian), F,
                                                 Jb, u_t, f_t, w)
         shape = batch + (self.n_contacts,)
         return HarmonicResponse(F.reshape(shape + (1, m)),
                                 Jb.reshape(shape + (m, m)) if jacobian else None,
-                                u_t.reshape((N,) + shape + (1,)),
-                                f_t.reshape((N,) + shape + (1,)), w.reshape(shape + (1,)),
+                                u_t.T.reshape((N,) + shape + (1,)),
+                                f_t.T.reshape((N,) + shape + (1,)), w.reshape(shape + (1,)),
                                 int(periods), bool(conv))

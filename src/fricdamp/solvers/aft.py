@@ -88,6 +88,9 @@ class HarmonicBasis:
             raise ModelError(f"samples must be an integer >= 2 * harmonics + 1 = {2 * H + 1} "
                              f"(Nyquist), got {samples!r}")
         N = int(samples)
+        cached = _BASES.get((H, N))
+        if cached is not None:      # immutable (read-only arrays): shared by every analysis
+            return cached
         tau = 2.0 * np.pi * np.arange(N) / N
         k = np.arange(1, H + 1)
         kt = np.outer(tau, k)
@@ -99,14 +102,17 @@ class HarmonicBasis:
         syn[:, 2::2] = np.sin(kt)
         der[:, 1::2] = -k * np.sin(kt)
         der[:, 2::2] = k * np.cos(kt)
-        ana = syn.T * (2.0 / N)
+        ana = np.ascontiguousarray(syn.T) * (2.0 / N)
         ana[0] = 1.0 / N
         dd = np.zeros((2 * H + 1, 2 * H + 1))
         dd[1::2, 2::2] = np.diag(k)    # a'_k = k b_k
         dd[2::2, 1::2] = -np.diag(k)   # b'_k = -k a_k
         for a in (tau, syn, der, ana, dd):
             a.setflags(write=False)
-        return cls(H, N, tau, syn, der, ana, dd)
+        basis = cls(H, N, tau, syn, der, ana, dd)
+        if len(_BASES) < 64:
+            _BASES[(H, N)] = basis
+        return basis
 
     @property
     def n_coeff(self) -> int:
@@ -130,6 +136,10 @@ class HarmonicBasis:
             S = _synthesis(self.harmonics, int(n_samples))
         out = S @ c.reshape(-1, self.n_coeff).T
         return out.reshape((S.shape[0],) + c.shape[:-1])
+
+
+#: Bases by (H, N): the prefix sums and caches keyed on their arrays then hit by identity.
+_BASES: dict[tuple[int, int], HarmonicBasis] = {}
 
 
 def _synthesis(H: int, N: int) -> np.ndarray:
