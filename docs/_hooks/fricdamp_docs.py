@@ -98,7 +98,29 @@ def api_page(package: str, title: str, summary: str) -> str:
             IDENTIFIERS.setdefault(alias, ident)
         lines += [f"::: {ident}", "    options:",
                   "      heading_level: 2", "      show_root_full_path: false", ""]
+    if package in MODULE_PACKAGES:
+        lines += ["## Modules", "",
+                  "Each public module of the subpackage, with its description; the names it "
+                  "defines are imported from the module itself.", ""]
+        for sub in _public_submodules(module):
+            lines += [f"::: {sub}", "    options:", "      members: false",
+                      "      heading_level: 3", "      show_root_full_path: true", ""]
     return "\n".join(lines)
+
+
+#: Subpackages whose public modules are listed too (the papers' systems: most of their API
+#: is reached through their modules, not through the subpackage's ``__all__``).
+MODULE_PACKAGES = {"fricdamp.models"}
+
+
+def _public_submodules(module) -> list[str]:
+    import pkgutil
+
+    found = []
+    for info in pkgutil.walk_packages(module.__path__, prefix=f"{module.__name__}."):
+        if not any(part.startswith("_") for part in info.name.split(".")):
+            found.append(info.name)
+    return sorted(found)
 
 
 def api_index() -> str:
