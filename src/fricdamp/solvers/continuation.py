@@ -429,7 +429,8 @@ class NewtonResult:
 
 def newton(fun: Callable, x0, *, tol: float = 1e-10, max_iter: int = 50,
            line_search: bool = True, step_tol: float = 0.0,
-           block_size: int | None = None) -> NewtonResult:
+           block_size: int | None = None, _orderings: _Orderings | None = None
+           ) -> NewtonResult:
     """Solve ``fun(x) = 0`` by Newton's method with optional backtracking.
 
     Parameters
@@ -459,7 +460,7 @@ def newton(fun: Callable, x0, *, tol: float = 1e-10, max_iter: int = 50,
     r, J = fun(x)
     nev = 1
     rn = _norm(r)
-    orderings = _Orderings(block_size)
+    orderings = _Orderings(block_size) if _orderings is None else _orderings
     for it in range(max_iter + 1):
         if not np.isfinite(rn):
             return NewtonResult(x, False, "residual is not finite", it, rn, nev)
@@ -689,7 +690,7 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
 
     # ---- first point at lam_start
     res0 = newton(fixed_lam(lam0 / lam_scale), x0 / xs, tol=tol, max_iter=start_max_iter,
-                  block_size=block_size)
+                  block_size=block_size, _orderings=orderings)
     counters["ev"] += 0
     if not res0.success:
         msg = f"{STATUS_MESSAGES[-1]} at lam = {lam0:g} ({res0.message})"
@@ -774,7 +775,7 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
             frac = (lam_end_s - y[n]) / (lam_new - y[n]) if lam_new != y[n] else 1.0
             guess = y[:n] + frac * (y_new[:n] - y[:n])
             rese = newton(fixed_lam(lam_end_s), guess, tol=tol, max_iter=max_iter,
-                          line_search=False, block_size=block_size)
+                          line_search=False, block_size=block_size, _orderings=orderings)
             counters["fact"] += rese.iterations
             if rese.success:
                 y_new = np.append(rese.x, lam_end_s)
