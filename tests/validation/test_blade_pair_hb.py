@@ -173,3 +173,47 @@ def test_ratios_and_bands():
     assert c["disagreement_band_rpm"] == [[300.0, 400.0]]
     assert bands(rpm, [True, False, True, True, False, True]) == [
         [100.0, 100.0], [300.0, 400.0], [600.0, 600.0]]
+
+
+def test_eqlin_with_a_stiffness_solves_the_describing_function_equation():
+    """solvers/eqlin.py with a damping model that also has a stiffness (the impedance
+    K_eq + i w C): a 1-DOF oscillator (m = 1, k = 1, c = 0.02) with a Jenkins element
+    (k_t = 2, F_s = 0.05) under F cos(w t). Stuck (F = 0.01): the linear response with
+    k + k_t (1e-12). Slipping (F = 0.2): the amplitude a solves Griffin's describing-function
+    equation |k - m w^2 + K_eq(a) + i w (c + C_eq(a))| a = F (1e-8), and the energy
+    balance holds to rounding."""
+    from fricdamp.solvers.eqlin import condense, dynamic_stiffness, equivalent_linearisation
+
+    m, k, c, kt, Fs, w = 1.0, 1.0, 0.02, 2.0, 0.05, 1.3
+
+    def describing(a):
+        r = Fs / (kt * a)
+        if r >= 1:
+            return kt, 0.0
+        beta = np.arccos(1 - 2 * r)
+        return (kt * (beta - np.sin(2 * beta) / 2) / np.pi,
+                4 * Fs * (a - Fs / kt) / (np.pi * w * a**2))
+
+    class Jenkins1D:
+        atol = 1e-14
+
+        def matrix(self, s, omega, idx):
+            return np.array([[[describing(abs(x[0]))[1]]] for x in s])
+
+        def stiffness(self, s, omega, idx):
+            return np.array([[[describing(abs(x[0]))[0]]] for x in s])
+
+    for F in (0.01, 0.2):
+        Z = dynamic_stiffness([[m]], [[c]], [[k]], [w])
+        cs = condense(Z, [F], [[1.0]], [w], dissipation_matrix=[[c]])
+        res = equivalent_linearisation(cs, Jenkins1D(), tol=1e-12)
+        assert res.success and res.energy_balance_error[0] < 1e-10
+        a = abs(res.response[0, 0])
+        if F == 0.01:
+            assert res.response[0, 0] == pytest.approx(F / (k + kt - m * w**2 + 1j * w * c),
+                                                       rel=1e-12)
+            assert kt * a <= Fs
+        else:
+            Ke, Ce = describing(a)
+            assert abs(k - m * w**2 + Ke + 1j * w * (c + Ce)) * a == pytest.approx(F, rel=1e-8)
+            assert kt * a > Fs
