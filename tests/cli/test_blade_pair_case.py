@@ -49,6 +49,11 @@ BAD = [
      ["[model] shroud_mass_kg", "must be > 0 kg", "got -0.07"]),
     ("negative_damper_mass", ("shroud_mass_kg = 0.07", "damper_mass_kg = -0.015"),
      ["[model] damper_mass_kg", "must be > 0 kg", "got -0.015"]),
+    ("negative_stick_stiffness", ("shroud_mass_kg = 0.07", "tangential_stiffness_N_per_m = -1.0"),
+     ["[model] tangential_stiffness_N_per_m", "must be > 0", "got -1"]),
+    ("hb_samples_below_nyquist",
+     ("n_speeds = 7", "n_speeds = 7\nhb_harmonics = 9\nhb_samples = 16"),
+     ["hb_samples = 16", ">= 2 hb_harmonics + 1 = 19"]),
     ("angle_above_90", ("delta_a_deg = 45.0", "delta_a_deg = 95.0"),
      ["[model] delta_a_deg", "must be < 90 deg", "got 95"]),
     ("angle_90", ("delta_a_deg = 45.0", "delta_b_deg = 90.0"),
@@ -272,3 +277,16 @@ def test_top_level_keys_may_not_clash(tmp_path, top, other, match):
     with pytest.raises(ValueError, match=match):
         run_case(_case(reg, len(outs)), tmp_path / "out", registry=reg)
     assert not (tmp_path / "out").exists()
+
+
+def test_stick_stiffness_reaches_the_model():
+    """tangential_stiffness_N_per_m: the equivalent-damping law becomes the Jenkins one."""
+    from fricdamp.analyses.blade_pair import BladePairSpec
+    from fricdamp.models.blade_pair import JenkinsEllipseDamping
+    from fricdamp.runner import BuildContext
+
+    entry = REGISTRY.models["blade_pair"]
+    spec = BladePairSpec(tangential_stiffness_N_per_m=1.0e8)
+    obj = entry.fn(spec, BuildContext(base_dir="."))
+    assert obj.params.tangential_stiffness == 1.0e8
+    assert isinstance(obj.model.friction_damping([100.0]), JenkinsEllipseDamping)

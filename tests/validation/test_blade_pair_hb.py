@@ -217,3 +217,20 @@ def test_eqlin_with_a_stiffness_solves_the_describing_function_equation():
             Ke, Ce = describing(a)
             assert abs(k - m * w**2 + Ke + 1j * w * (c + Ce)) * a == pytest.approx(F, rel=1e-8)
             assert kt * a > Fs
+
+
+def test_bad_input_names_the_parameter(model):
+    """ModelError naming the parameter: f = 0 (no stick-slip), non-monotonic speeds, a guide
+    of the wrong shape, a negative stick stiffness."""
+    from fricdamp.errors import ModelError
+
+    with pytest.raises(ModelError, match="friction_coefficient"):
+        hb_speed_sweep(model, 30, [300.0], 0.0)
+    with pytest.raises(ModelError, match="monotonic"):
+        hb_speed_sweep(model, 30, [300.0, 200.0, 400.0], 0.1)
+    with pytest.raises(ModelError, match="guide"):
+        hb_speed_sweep(model, 30, [300.0], 0.1, guide=np.zeros((2, 78)))
+    with pytest.raises(ModelError, match="tangential_stiffness"):
+        BladePairParameters(tangential_stiffness=-1.0)
+    with pytest.raises(ModelError, match="tangential_stiffness"):
+        hb_system(model, 30, 30.0, 0.1, tangential_stiffness=0.0)
