@@ -115,6 +115,29 @@ def test_contract_and_physics_on_a_coarse_mesh(solid_run):
         # friction damps far more than the 0.1 % of the material
         assert e["damping_ratio"] > 5e-3
         assert e["energy_balance_error"] < 0.02
+        # contact resultants of contact B over the decay (the face is plane, so the tilting
+        # moment is the normal force times the centre-of-pressure offset, checked below on
+        # results.nc); the normal force swings about the 2.4 N prestress and the partly
+        # open face (edge contact) moves the centre of pressure off the centroid
+        cr = e["contact_resultants"]
+        lo, hi = cr["normal_force_N"]
+        assert lo < 2.4 < hi and lo >= 0.0
+        assert cr["tilting_moment_max_Nm"] > 0 and cr["center_of_pressure_offset_max_m"] > 0
+    from fricdamp.iofiles import read_results
+
+    ds = read_results(out / "results.nc")
+    n = ds["free_attenuation__normal_force"].values
+    cp = ds["free_attenuation__center_of_pressure"].values
+    mom = ds["free_attenuation__moment"].values
+    ok = n > 1e-3 * 2.4
+    assert ok.mean() > 0.5
+    # plane face: M . t2 = -N cp1, M . t1 = N cp2 (only the normal forces have lever arms
+    # out of the face plane's normal)
+    np.testing.assert_allclose(mom[..., 2][ok], -(n * cp[..., 0])[ok], rtol=1e-6,
+                               atol=1e-9 * 2.4 * 0.01)
+    np.testing.assert_allclose(mom[..., 1][ok], (n * cp[..., 1])[ok], rtol=1e-6,
+                               atol=1e-9 * 2.4 * 0.01)
+    assert (out / "contact_resultants.png").is_file()
     # 003 section 3.2: the 6ND mode is damped more than the 2ND mode
     assert decay[6]["damping_ratio"] > decay[2]["damping_ratio"]
     pc = s["penalty_convergence"]

@@ -642,6 +642,27 @@ def run_solid_free_attenuation(model: SolidWheelCaseModel, spec,
                             {"meaning": "0 open, 1 stick, 2 slip"})},
         coords={"nd": ("nd", np.asarray(spec.nodal_diameters)),
                 "time": ("time", runs[0].t[:n], {"units": "s"})})}
+    if all(r.resultants is not None for r in runs):
+        nc = min(r.t_contacts.size for r in runs)
+
+        def stack(get):
+            return np.stack([get(r.resultants)[:nc] for r in runs])
+
+        arrays["contact_resultants"] = xr.Dataset(
+            {"normal_force": (("nd", "time", "contact"), stack(lambda q: q.normal_force),
+                              {"units": "N", "meaning": "compression positive"}),
+             "tangential_force": (("nd", "time", "contact", "tangent"),
+                                  stack(lambda q: q.tangential_force), {"units": "N"}),
+             "moment": (("nd", "time", "contact", "axis"), stack(lambda q: q.moment),
+                        {"units": "N m", "meaning": "about the face centroid: twisting "
+                         "(normal), tilting (t1, t2)"}),
+             "center_of_pressure": (("nd", "time", "contact", "tangent"),
+                                    stack(lambda q: q.center_of_pressure),
+                                    {"units": "m", "meaning": "from the face centroid"})},
+            coords={"nd": ("nd", np.asarray(spec.nodal_diameters)),
+                    "time": ("time", runs[0].t_contacts[:nc], {"units": "s"}),
+                    "tangent": ("tangent", ["t1", "t2"]),
+                    "axis": ("axis", ["n", "t1", "t2"])})
     headline = ", ".join(
         f"{r.nd}ND: zeta {100 * r.damping_ratio:.3g} %"
         + (f" (paper {100 * PAPER_DAMPING_RATIO[r.nd]:.2g} %)"
@@ -744,7 +765,35 @@ def _decay_figures(runs, model) -> list:
         figs.append((f"contact_status_{r.nd}nd.png", f"{r.nd}ND: state of every node pair of "
                      "contacts A and B at chosen instants (grey open, blue stick, red slip)",
                      fig))
+    if all(r.resultants is not None for r in runs):
+        figs.append(_resultant_figure(runs))
     return figs
+
+
+def _resultant_figure(runs):
+    """Resultants of contact B (blades 0 | 1) over each decay: forces and moments."""
+    from fricdamp import plot
+
+    fig, axes = plot.new_figure(len(runs), 2, width=10.0, height=2.8,
+                                title="Contact B (blades 0 | 1): resultants over the face")
+    for row, r in zip(axes, runs, strict=True):
+        q, t = r.resultants, 1e3 * r.t_contacts
+        row[0].plot(t, q.normal_force[:, 0], color="C0", label="normal N")
+        row[0].plot(t, np.hypot(*q.tangential_force[:, 0].T), color="C3",
+                    label="tangential |T|")
+        row[0].set_ylabel("force [N]")
+        row[0].set_title(f"{r.nd}ND", fontsize="small")
+        row[1].plot(t, 1e3 * q.moment[:, 0, 0], color="C2", label="twisting M_n")
+        row[1].plot(t, 1e3 * np.hypot(q.moment[:, 0, 1], q.moment[:, 0, 2]), color="C1",
+                    label="tilting |M_t|")
+        row[1].set_ylabel("moment [N mm]")
+        for ax in row:
+            ax.legend(fontsize="x-small", loc="upper right")
+    for ax in axes[-1]:
+        ax.set_xlabel("time [ms]")
+    return ("contact_resultants.png", "Resultant normal and tangential force of contact B and "
+            "its moments about the face centroid (twisting about the normal, tilting from "
+            "how the pressure is spread: edge contact)", fig)
 
 
 # ================================================================================ penalty

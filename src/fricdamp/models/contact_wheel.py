@@ -302,6 +302,10 @@ class SolidDecayRun:
     offset_m : float
         Interference offset [m].
     meta : dict
+    resultants : PatchResultants or None
+        Resultant normal and tangential force, twisting and tilting moments and centre of
+        pressure of every contact at ``t_contacts`` (leading shape (n_tc, N);
+        :meth:`~fricdamp.structure.contact_patch.ContactPatch.resultants`).
     """
 
     nd: int
@@ -322,6 +326,30 @@ class SolidDecayRun:
     normal_force_rest_N: float
     offset_m: float
     meta: dict = field(default_factory=dict)
+    resultants: object = None
+
+    def resultant_summary(self, contact: int = 0) -> dict | None:
+        """Extremes over the record of one contact's resultants (default contact 0, between
+        blades 0 and 1): normal force [N], tangential force magnitude [N], twisting moment
+        about the face normal and tilting moment magnitude [N m], distance of the centre of
+        pressure from the face centroid [m], and the share of samples with no normal force
+        (the whole face open)."""
+        r = self.resultants
+        if r is None:
+            return None
+        fn = r.normal_force[:, contact]
+        ft = np.hypot(*r.tangential_force[:, contact].T)
+        mn = r.moment[:, contact, 0]
+        mt = np.hypot(r.moment[:, contact, 1], r.moment[:, contact, 2])
+        cp = np.hypot(*r.center_of_pressure[:, contact].T)
+        closed = np.isfinite(cp)
+        return {"contact": contact, "normal_force_N": [float(fn.min()), float(fn.max())],
+                "tangential_force_max_N": float(ft.max()),
+                "twisting_moment_max_Nm": float(np.abs(mn).max()),
+                "tilting_moment_max_Nm": float(mt.max()),
+                "center_of_pressure_offset_max_m": float(cp[closed].max()) if closed.any()
+                else None,
+                "open_fraction": float(1.0 - closed.mean())}
 
     def summary(self) -> dict:
         """The contract entry (nd, damping_ratio, initial_amplitude_m, runtime_s,
@@ -331,6 +359,8 @@ class SolidDecayRun:
                "cpu_s": self.cpu_s, "energy_balance_error": self.energy_balance_error,
                "state_fractions": self.state_fractions,
                "normal_force_rest_N": self.normal_force_rest_N, "offset_m": self.offset_m}
+        if self.resultants is not None:
+            out["contact_resultants"] = self.resultant_summary(0)
         if self.decay is not None:
             out["frequency_hz"] = self.decay.mean_frequency_hz
             amp = self.amplitude_decay if self.amplitude_decay is not None else self.decay
@@ -594,13 +624,14 @@ class ContactWheel:
         t, x = res.t, blades[:, 0]
         dec, hil, zeta = decay_estimates(t, x, f"{nd}ND")
         N, npair = self.n_sectors, self.n_pairs
+        forces = res.contact_force.reshape(-1, N, npair, 3)
         return SolidDecayRun(
             nd=int(nd), t=t, signal=x, blades=blades, decay=dec, amplitude_decay=hil,
             damping_ratio=zeta, initial_amplitude_m=float(x[0]), runtime_s=res.runtime_s,
             cpu_s=res.cpu_s, energy_balance_error=res.energy_balance_error,
             state_fractions=res.state_fractions(),
             status=res.contact_status.reshape(-1, N, npair), t_contacts=res.t_contacts,
-            contact_force=res.contact_force.reshape(-1, N, npair, 3),
+            contact_force=forces, resultants=self.sector.patch.resultants(forces),
             normal_force_rest_N=float(np.mean(self.normal_force_per_contact(rest))),
             offset_m=float(offset),
             meta={"dt_s": h, "duration_s": dur, "method": method, "forcing": forcing,

@@ -38,7 +38,8 @@ import numpy as np
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ModelError, check_positive
 
-__all__ = ["ContactPatch", "pair_faces", "patch_from_faces", "rotation_about"]
+__all__ = ["ContactPatch", "PatchResultants", "pair_faces", "patch_from_faces",
+           "rotation_about"]
 
 
 def _axis_vector(axis) -> np.ndarray:
@@ -100,6 +101,38 @@ def pair_faces(right_xyz, left_xyz, sector_angle: float, *, axis="z",
                          f"the right face node to node (largest distance {np.max(dist):.3g} m "
                          f"> {tol:.3g} m): mesh the faces periodically")
     return idx.astype(np.int64)
+
+
+@dataclass(frozen=True)
+class PatchResultants:
+    """Resultant force and moment of a contact patch's node-pair forces.
+
+    The pair forces are those of the contact law, ``(f_n, f_t1, f_t2)`` in each pair's frame
+    (``f_n > 0`` compression): the force with which the patch pushes sector ``j + 1`` (its
+    negative acts on sector ``j``). Resultants are taken about the patch's area centroid
+    ``c`` and written in its mean frame ``(n, t1, t2)`` (:attr:`ContactPatch.mean_frame`)::
+
+        F = sum_p Lambda_p^T f_p,      M = sum_p (x_p - c) x (Lambda_p^T f_p)
+
+    Attributes
+    ----------
+    normal_force : ndarray, shape (...)
+        ``F . n`` [N] (compression positive).
+    tangential_force : ndarray, shape (..., 2)
+        ``(F . t1, F . t2)`` [N].
+    moment : ndarray, shape (..., 3)
+        ``(M . n, M . t1, M . t2)`` [N m]: the twisting moment about the normal (from the
+        tangential forces) and the two tilting moments (from how the pressure is spread
+        over the face: zero for a uniform pressure, large in edge contact).
+    center_of_pressure : ndarray, shape (..., 2)
+        Where the normal forces act, ``sum f_n x / sum f_n - c`` along (t1, t2) [m]; NaN
+        where the patch carries no normal force.
+    """
+
+    normal_force: np.ndarray
+    tangential_force: np.ndarray
+    moment: np.ndarray
+    center_of_pressure: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -166,6 +199,53 @@ class ContactPatch:
         ratio = float(check_positive("tangential_ratio", tangential_ratio))
         return Contact3D(kn, ratio * kn, mu_static, offset=offset, mu_sliding=mu_sliding,
                          decay=decay, n_contacts=kn.size)
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """Area-weighted centre of the pairs ``sum A x / sum A`` [m], shape (3,)."""
+        return self.areas @ self.positions / self.areas.sum()
+
+    @property
+    def mean_frame(self) -> np.ndarray:
+        """Rows ``(n, t1, t2)`` of the patch: the area-weighted mean normal, the mean first
+        tangent made orthogonal to it, and ``t2 = n x t1`` (equal to every pair's frame on
+        a plane face), shape (3, 3)."""
+        n = self.areas @ self.frames[:, 0]
+        n /= np.linalg.norm(n)
+        t1 = self.areas @ self.frames[:, 1]
+        t1 -= (t1 @ n) * n
+        t1 /= np.linalg.norm(t1)
+        return np.stack([n, t1, np.cross(n, t1)])
+
+    def resultants(self, forces) -> PatchResultants:
+        """Resultant force, moment and centre of pressure of pair forces.
+
+        Parameters
+        ----------
+        forces : array_like, shape (..., n_pairs, 3)
+            Pair forces ``(f_n, f_t1, f_t2)`` [N] in the pairs' frames (e.g. the
+            ``contact_force`` of a transient for one contact), any leading shape.
+
+        Returns
+        -------
+        PatchResultants
+            See there for the definitions and sign conventions.
+        """
+        f = np.asarray(forces, dtype=float)
+        if f.ndim < 2 or f.shape[-2:] != (self.n_pairs, 3):
+            raise ModelError(f"forces must have shape (..., {self.n_pairs}, 3), got {f.shape}")
+        glob = np.einsum("pab,...pa->...pb", self.frames, f)      # Lambda_p^T f_p
+        arm = self.positions - self.centroid
+        F = glob.sum(axis=-2)
+        M = np.cross(arm, glob).sum(axis=-2)
+        E = self.mean_frame
+        fn = f[..., 0]
+        N = fn.sum(axis=-1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cp = np.einsum("...p,pa->...a", fn, arm) / N[..., None]
+        cp = np.where((N > 0)[..., None], cp, np.nan)
+        return PatchResultants(normal_force=F @ E[0], tangential_force=F @ E[1:].T,
+                               moment=M @ E.T, center_of_pressure=cp @ E[1:].T)
 
     def face_coordinates(self) -> np.ndarray:
         """In-plane coordinates (along t1, t2) of the pairs from the face centre [m],
