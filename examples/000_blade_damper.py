@@ -3,7 +3,8 @@
 Makes the paper's figures for the planar blade-damper model into a folder:
 
 * ``fig08_phase_plot.png``   -- phase plot of blade 2 (q4, q4') in forced stick-slip
-  (000 Fig. 8), with the time history and the contact configurations over time;
+  (000 Fig. 8): the run and the closed periodic orbit it approaches (shooting, with its
+  period multiple and stability), with the time history and the contact configurations;
 * ``fig09_pulloff_gamma.png`` -- pull-off amplitude vs block angle gamma (000 Fig. 9);
 * ``fig10_pulloff_FZ.png``    -- pull-off amplitude vs centrifugal force F_Z (000 Fig. 10);
 * ``fig11_pulloff_frequency.png`` -- pull-off amplitude vs excitation frequency for
@@ -37,6 +38,7 @@ from fricdamp.models.blade_damper_analyses import (
     stuck_eigenfrequencies,
     time_response,
 )
+from fricdamp.models.blade_damper_orbits import steady_orbit
 
 #: Excitation amplitude of the design study [N] (the paper does not give it).
 DESIGN_FE = 8.0
@@ -108,16 +110,22 @@ def _fig_pulloff_trends(base, out: Path, f_ref: float) -> tuple[list[str], dict]
     return paths, data
 
 
-def _fig_phase(tr, out: Path, last_periods: float) -> str:
+def _fig_phase(tr, out: Path, last_periods: float, orbit=None) -> str:
     import matplotlib.pyplot as plt
 
     r = tr.result
     t, x, v = tr.phase_plot(3, last_periods=last_periods)
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-    axes[0].plot(x * 1e3, v, lw=1)
+    axes[0].plot(x * 1e3, v, lw=0.7, color="0.6", label=f"run, last {last_periods:g} periods")
+    if orbit is not None and orbit.orbit is not None:
+        o = orbit.orbit
+        axes[0].plot(o.q[:, 3] * 1e3, o.qd[:, 3], lw=1.5, color="C3",
+                     label=f"periodic orbit ({orbit.period_multiple} T, "
+                           f"{'stable' if orbit.stable else 'unstable'})")
+    axes[0].legend(fontsize="small")
     axes[0].set_xlabel("q4 [mm]")
     axes[0].set_ylabel("q4' [m/s]")
-    axes[0].set_title(f"000 Fig. 8: phase plot, last {last_periods:g} periods")
+    axes[0].set_title("000 Fig. 8: phase plot of blade 2")
     axes[1].plot(r.t, r.q[:, 3] * 1e3, lw=0.8, label="q4 (blade 2)")
     axes[1].plot(r.t, r.q[:, 1] * 1e3, lw=0.8, label="q2 (blade 1)")
     axes[1].set_xlabel("t [s]")
@@ -203,13 +211,15 @@ def main(out_dir="000_blade_damper_out", *, quick: bool = False) -> dict:
     pp = base.with_(excitation_amplitude=8.0, excitation_frequency=58.0)
     periods = 6.0 if quick else 40.0
     tr = time_response(pp, periods, samples_per_period=200, rtol=1e-8)
-    figures.append(_fig_phase(tr, out, 3.0))
     r = tr.result
+    # the closed orbit the run approaches, by shooting from its end state
+    so = steady_orbit(pp, y0=np.concatenate([r.q[-1], r.qd[-1]]), t_start=float(r.t[-1]))
+    figures.append(_fig_phase(tr, out, 3.0, so))
     tresp = {"periods": periods, "excitation_frequency_hz": 58.0, "excitation_amplitude_N": 8.0,
              "time_in_configuration_s": tr.time_in_configuration,
              "n_events": int(r.n_events), "energy_balance_error": r.energy_balance_error,
              "q4_amplitude_m": 0.5 * float(np.ptp(tr.phase_plot(3, 3.0)[1])),
-             "errors": list(tr.errors)}
+             "errors": list(tr.errors), "orbit": so.summary()}
     # Fig. 12: design study (F_Z = m_D a_c, a_c = 1e5 m/s^2)
     if quick:
         ds = design_study(base.with_(excitation_amplitude=DESIGN_FE), (2e-3, 4e-3), (50.0,),

@@ -70,3 +70,26 @@ def test_design_sweep_two_points(tmp_path):
     a1 = json.loads((single / "summary.json").read_text())["blade_resonance"]["blade_amplitude_m"]
     assert float(ds[var].sel(damper_mass_kg=1e-3).values.ravel()[0]) == pytest.approx(a1,
                                                                                     rel=1e-9)
+
+
+def test_time_response_without_a_periodic_orbit_is_unreliable(tmp_path):
+    """1 g, 65 deg, F_e = 8 N at 50.915 Hz: the steady state is a period-2 orbit that the
+    transient reaches only after ~200 periods (test_blade_damper_orbits.py). With a budget
+    of 10 periods the orbit search must say it found no steady state: period_multiple 0,
+    stable false, verdict unreliable (exit 3), never a transient called steady."""
+    p = tmp_path / "bd.toml"
+    p.write_text(BASE.format(model="gamma_deg = 65.0").replace(
+        "[analysis.eigenfrequencies]", """[analysis.time_response]
+periods = 3
+excitation_amplitude_N = 8.0
+excitation_frequency_hz = 50.915
+max_orbit_periods = 10
+"""))
+    assert main(["run", str(p), "--out", str(tmp_path / "out"), "--no-progress"]) == 3
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    tr = s["time_response"]
+    assert tr["period_multiple"] == 0 and tr["stable"] is False
+    assert tr["orbit"]["periodic"] is False and tr["cpu_s_per_period"] > 0
+    v = s["verdict"]["analyses"]["time_response"]
+    assert v["verdict"] == "unreliable"
+    assert any("no stable periodic orbit" in r for r in v["reasons"])

@@ -73,7 +73,8 @@ def test_friction_limits_the_resonance():
     f0 = BladeDamperSystem(p).stuck_system().eigenfrequencies()[1]
     assert p.excitation_amplitude > pulloff_curve(p, [f0]).F_e_limit_N[0]
     pp = p.with_(excitation_frequency=float(f0))
-    ss = steady_state_amplitude(pp, chunk_periods=8.0, max_periods=48.0, tol=0.05)
+    ss = steady_state_amplitude(pp, chunk_periods=8.0, max_periods=48.0, tol=0.05,
+                                method="window")
     assert ss.converged and not ss.errors and ss.periods > 0
     assert ss.amplitude_m < 0.5 * _stuck_q4(pp, [f0])[0]
     tr = time_response(pp, 4.0, y0=ss.y_end, t_start=ss.periods / f0, samples_per_period=100)
@@ -86,9 +87,11 @@ def test_friction_limits_the_resonance():
 
 
 def test_resonance_sweep_contract():
+    """The window method's fine sweep (kept for comparison; shooting's peak search is
+    exercised by the blade_damper_pulloff case)."""
     p = BladeDamperParameters(excitation_amplitude=8.0)  # slips across the first resonance
     r = resonance_amplitude(p, [50.5, 51.5], chunk_periods=3.0, max_periods=6.0, tol=0.05,
-                            resolution_hz=0.25)
+                            resolution_hz=0.25, method="window")
     assert r["amplitude_m"].shape == (2,) and r["stuck"].dtype == bool
     assert not r["stuck"].any()
     assert np.isfinite(r["peak_amplitude_m"]) and 50.5 <= r["peak_hz"] <= 51.5

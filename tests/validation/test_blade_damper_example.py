@@ -45,6 +45,12 @@ def test_results_contract_and_numbers(results):
     tr = res["time_response"]
     assert tr["errors"] == [] and tr["energy_balance_error"] < 1e-6
     assert tr["time_in_configuration_s"]["stick/stick"] < tr["periods"] / 58.0
+    # Fig. 8's closed orbit by shooting: period 1, K1 stuck throughout (its neutral
+    # multiplier excluded), stable; checked against long integration in
+    # test_blade_damper_orbits.py
+    o = tr["orbit"]
+    assert o["periodic"] and o["converged"] and o["stable"] and o["period_multiple"] == 1
+    assert o["neutral_contacts"] == [0] and o["max_multiplier_excluding_neutral"] < 1
     d = res["design"]
     assert set(d) >= {"damper_mass_kg", "gamma_deg", "blade_amplitude_m", "optimum"}
     A = np.array(d["blade_amplitude_m"])

@@ -189,7 +189,8 @@ def run_eigenfrequencies(obj, spec: Eigenfrequencies, ctx: RunContext) -> Analys
 
 # ============================================================================ time response
 class TimeResponseAnalysis(Section):
-    """``[analysis.time_response]``: event-driven stick-slip response (000 Fig. 8)."""
+    """``[analysis.time_response]``: event-driven stick-slip response and its steady periodic
+    orbit by shooting (000 Fig. 8)."""
 
     periods: Positive = Field(30.0, le=10_000, description="excitation periods simulated")
     samples_per_period: int = Field(200, ge=8, le=100_000, description="output samples")
@@ -198,37 +199,58 @@ class TimeResponseAnalysis(Section):
     excitation_frequency_hz: Positive | None = Field(
         None, description="overrides [model] excitation_frequency_hz")
     phase_plot_periods: Positive = Field(5.0, description="last periods shown in the phase plot")
+    max_orbit_periods: int = Field(
+        400, ge=10, le=100_000,
+        description="transient budget [periods] of the search for the steady periodic orbit")
 
 
 def run_time_response(obj, spec: TimeResponseAnalysis, ctx: RunContext) -> AnalysisOutput:
     import xarray as xr
 
     from fricdamp.models.blade_damper_analyses import CONFIGURATIONS, time_response
+    from fricdamp.models.blade_damper_orbits import steady_orbit
 
     p = _params(obj, spec)
     t0 = time.perf_counter()
+    c0 = time.process_time()
     tr = time_response(p, spec.periods, samples_per_period=spec.samples_per_period)
+    cpu_run = time.process_time() - c0
     r = tr.result
     T = 1.0 / p.excitation_frequency
     last = r.t >= r.t[-1] - T
     q4 = r.q[last, 3]
+    last_amp = float(0.5 * (q4.max() - q4.min()))
+    # the steady state the run approaches: its periodic orbit by shooting, continued from
+    # the run's end state (000 Fig. 8 shows a closed orbit)
+    so = None
+    if tr.ok:
+        so = steady_orbit(p, y0=np.concatenate([r.q[-1], r.qd[-1]]), t_start=float(r.t[-1]),
+                          max_periods=spec.max_orbit_periods)
+    periodic = bool(so is not None and so.periodic)
     notes = [f"model assumption violated: {e}" for e in tr.errors]
     summary = {
         "excitation_amplitude_N": p.excitation_amplitude,
         "excitation_frequency_hz": p.excitation_frequency,
-        "blade_amplitude_m": float(0.5 * (q4.max() - q4.min())),
+        "blade_amplitude_m": float(so.amplitude_m) if periodic else last_amp,
+        "last_period_amplitude_m": last_amp,
+        "period_multiple": int(so.period_multiple) if periodic else 0,
+        "stable": bool(periodic and so.stable),
+        "cpu_s_per_period": cpu_run / spec.periods,
+        "orbit": None if so is None else so.summary(),
         "time_in_configuration_s": {k: float(v) for k, v in tr.time_in_configuration.items()},
         "n_events": len(r.events),
         "min_normal_force_N": float(tr.min_normal_force),
         "energy_balance_error": float(r.energy_balance_error),
-        "errors": list(tr.errors),
+        "errors": list(tr.errors) + ([] if so is None else list(so.errors)),
         "solver_runtime_s": time.perf_counter() - t0,
     }
     ds = r.to_xarray() if hasattr(r, "to_xarray") else xr.Dataset()
+    orbit_text = (f"steady orbit of period {so.period_multiple} T, "
+                  f"{'stable' if so.stable else 'unstable'}, q4 amplitude {so.amplitude_m:.3g} m"
+                  if periodic else "no stable periodic orbit found")
     headline = (f"{spec.periods:g} periods at {p.excitation_frequency:g} Hz, F_e = "
-                f"{p.excitation_amplitude:g} N: {len(r.events)} events; blade amplitude "
-                f"{summary['blade_amplitude_m']:.3g} m; energy balance "
-                f"{summary['energy_balance_error']:.1e}")
+                f"{p.excitation_amplitude:g} N: {len(r.events)} events; {orbit_text}; "
+                f"energy balance {summary['energy_balance_error']:.1e}")
 
     def figures():
         from fricdamp import plot
@@ -240,21 +262,39 @@ def run_time_response(obj, spec: TimeResponseAnalysis, ctx: RunContext) -> Analy
         ax1, ax2 = axes[0]
         fa, la = plot.si_scale(x, "m")
         fv, lv = plot.si_scale(xd, "m/s")
-        ax1.plot(x / fa, xd / fv, lw=0.8)
+        ax1.plot(x / fa, xd / fv, lw=0.6, color="0.6",
+                 label=f"last {spec.phase_plot_periods:g} periods of the run")
+        if periodic and so.orbit is not None:
+            o = so.orbit
+            ax1.plot(o.q[:, 3] / fa, o.qd[:, 3] / fv, lw=1.4, color="C3",
+                     label=f"periodic orbit ({so.period_multiple} T, "
+                           f"{'stable' if so.stable else 'unstable'})")
         ax1.set_xlabel(f"q4 [{la}]")
         ax1.set_ylabel(f"dq4/dt [{lv}]")
+        ax1.legend(fontsize="small")
         ax2.step(r.t, tr.configuration, where="post", lw=0.8)
         ax2.set_yticks(range(len(CONFIGURATIONS)), CONFIGURATIONS)
         ax2.set_xlabel("time [s]")
         ax2.set_ylabel("contacts K1/K2")
-        return [("time_response.png", "Phase plot of blade 2 and contact configurations "
-                 "(stick/slip of K1 and K2) over time", fig)]
+        return [("time_response.png", "Phase plot of blade 2: the run and its periodic orbit "
+                 "by shooting; contact configurations (stick/slip of K1 and K2) over time",
+                 fig)]
 
     # a solver that stopped is a failure; a negative normal force (the no-separation model
-    # violated, e.g. when the complementarity solver fails) makes every number unreliable
+    # violated, e.g. when the complementarity solver fails) makes every number unreliable;
+    # so does a steady state that is not a converged, stable periodic orbit
     failed = next((e for e in tr.errors if e.startswith("solver:")), None)
     reasons = [f"{e}; the response is not that of the model" for e in tr.errors
                if not e.startswith("solver:")]
+    if so is not None:
+        if not periodic:
+            reasons.append(f"no stable periodic orbit of period multiple <= 4 within "
+                           f"{spec.max_orbit_periods} periods: the response beats (not "
+                           "periodic); blade_amplitude_m is the last period's")
+        elif not so.converged:
+            reasons.append(f"the periodic orbit did not converge (residual {so.residual:.2g}); "
+                           "increase max_orbit_periods")
+        reasons.extend(f"steady orbit: {e}" for e in so.errors)
     verdict = judge({"energy_balance_error": summary["energy_balance_error"],
                      "min_normal_force_N": summary["min_normal_force_N"]},
                     reasons=reasons, failed=failed)
@@ -347,7 +387,11 @@ class DamperDesign(Section):
         None, description="[p1 (1/m), p2 (m)] pairs; default the model's")
     n_frequencies: int = Field(6, ge=2, le=200, description="stepped-sine frequencies")
     resolution_hz: Positive | None = Field(
-        0.25, description="step of the fine sweep around each resonance (None: no fine sweep)")
+        0.25, description="frequency resolution of the peak search around each resonance "
+                          "(None: no search)")
+    boundary_refinements: int = Field(
+        3, ge=0, le=12, description="bisection steps on gamma towards the lift-off boundary "
+                                    "per damper mass (0: none)")
     centrifugal_acceleration_m_per_s2: Positive | None = Field(
         None, description="F_Z = m_D a_c (default: the model's F_Z / m_D)")
     excitation_amplitude_N: Positive | None = Field(
@@ -377,20 +421,31 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
                          [tuple(x) for x in spec.parabolas] if spec.parabolas else None,
                          frequency_hz=f, resolution_hz=spec.resolution_hz,
                          centrifugal_acceleration=spec.centrifugal_acceleration_m_per_s2,
-                         progress=None if bar is None else lambda done, total: bar.update(1))
+                         boundary_refinements=spec.boundary_refinements,
+                         progress=None if bar is None else _progress(bar))
     finally:
         if bar is not None:
             bar.close()
     design = d.to_dict()
     opt = design["optimum"]
     notes = [f"design point: {e}" for e in design.get("errors", [])][:10]
+    n_refined = sum(len(b["refined"]) for b in design["validity_boundary"])
     summary = {"optimum": opt, "n_designs": int(np.size(d.blade_amplitude_m)),
                "n_valid_designs": int(np.sum(d.valid)),
+               "n_boundary_designs": n_refined,
+               "optimum_on_validity_boundary": design["optimum_on_validity_boundary"],
+               "validity_boundary": [{k: b[k] for k in ("p1_per_m", "p2_m", "damper_mass_kg",
+                                                        "gamma_valid_deg", "gamma_invalid_deg")}
+                                     for b in design["validity_boundary"]],
+               "converged": design["converged"],
+               "n_nonperiodic_steady_states": design["n_nonperiodic_steady_states"],
                "excitation_amplitude_N": p.excitation_amplitude,
                "runtime_s_solver": time.perf_counter() - t0}
-    headline = (f"{summary['n_designs']} designs; smallest resonant blade amplitude "
-                f"{opt['blade_amplitude_m']:.3g} m at m_D = {opt['damper_mass_kg']:g} kg, "
-                f"gamma = {opt['gamma_deg']:g} deg")
+    headline = (f"{summary['n_designs']} designs + {n_refined} on the lift-off boundary; "
+                f"smallest resonant blade amplitude {opt['blade_amplitude_m']:.3g} m at m_D = "
+                f"{opt['damper_mass_kg']:g} kg, gamma = {opt['gamma_deg']:.4g} deg"
+                + (" (on the lift-off boundary)" if summary["optimum_on_validity_boundary"]
+                   else ""))
 
     def figures():
         from fricdamp import plot
@@ -410,6 +465,14 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
                 ax.plot(mg[bad], A[bad, j] / fa, "x", color=line.get_color(), ms=7)
         if not ok.all():
             ax.plot([], [], "kx", label="invalid (damper lifts off or solver failed)")
+        bnd = [b for b in design["validity_boundary"]
+               if b["p1_per_m"] == design["parabolas"][0]["p1_per_m"]
+               and b["p2_m"] == design["parabolas"][0]["p2_m"]
+               and b["gamma_invalid_deg"] is not None and b["blade_amplitude_m"] is not None]
+        if bnd:
+            ax.plot([b["damper_mass_kg"] * 1e3 for b in bnd],
+                    [b["blade_amplitude_m"] / fa for b in bnd], "s--", color="k", ms=5,
+                    mfc="none", lw=0.8, label="largest gamma without lift-off")
         ax.plot(opt["damper_mass_kg"] * 1e3, opt["blade_amplitude_m"] / fa, "k*", ms=12,
                 label="optimum")
         ax.set_xlabel("damper mass [g]")
@@ -418,11 +481,26 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
         return [("design.png", "Resonant blade amplitude vs damper mass and block angle", fig)]
 
     n_bad = summary["n_designs"] - summary["n_valid_designs"]
-    verdict = judge({"invalid_designs": n_bad},
-                    reasons=[] if summary["n_valid_designs"] else
-                    ["no design point is valid (the damper lifts off or the solver failed)"])
+    reasons = [] if summary["n_valid_designs"] else [
+        "no design point is valid (the damper lifts off or the solver failed)"]
+    if not design["converged"]:
+        reasons.append("some stick-slip steady states are neither converged periodic orbits "
+                       "nor stationary beating responses (a transient is not a steady state): "
+                       "their amplitudes are window estimates")
+    if design["n_nonperiodic_steady_states"]:
+        notes.append(f"{design['n_nonperiodic_steady_states']} stick-slip steady states have "
+                     "no stable periodic orbit (beating responses, amplitude from two long "
+                     "windows)")
+    verdict = judge({"invalid_designs": n_bad}, reasons=reasons)
     return AnalysisOutput(summary=summary, figures=figures, headline=headline, notes=notes,
                           top_level={"design": design}, verdict=verdict)
+
+
+def _progress(bar):
+    def update(done, total):
+        bar.total = total
+        bar.update(done - bar.n)
+    return update
 
 
 # ============================================================================ one design
@@ -432,7 +510,8 @@ class BladeResonance(Section):
 
     n_frequencies: int = Field(6, ge=2, le=200, description="stepped-sine frequencies")
     resolution_hz: Positive | None = Field(
-        0.25, description="step of the fine sweep around the resonance (None: no fine sweep)")
+        0.25, description="frequency resolution of the peak search around the resonance "
+                          "(None: no search)")
     excitation_amplitude_N: Positive | None = Field(
         None, description="overrides [model] excitation_amplitude_N")
 
@@ -449,11 +528,12 @@ def run_blade_resonance(obj, spec: BladeResonance, ctx: RunContext) -> AnalysisO
                "F_Z_N": p.centrifugal_force,
                "frequency_hz": np.asarray(r["frequency_hz"]).tolist(),
                "amplitude_m": np.asarray(r["amplitude_m"]).tolist(),
-               "converged": bool(np.all(r["converged"]))}
+               "converged": bool(np.all(r["converged"]) and r["all_converged"])}
     if r["errors"]:
         raise ModelError("; ".join(r["errors"][:3]))
     verdict = judge({}, reasons=[] if summary["converged"] else
-                    ["some stepped-sine points did not reach a steady state"])
+                    ["some stepped-sine points did not reach a steady state (a converged, "
+                     "stable periodic orbit)"])
     return AnalysisOutput(summary=summary, verdict=verdict, headline=(
         f"resonant blade amplitude {summary['blade_amplitude_m']:.3g} m at "
         f"{summary['peak_frequency_hz']:.4g} Hz"))

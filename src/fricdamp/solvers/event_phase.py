@@ -248,13 +248,16 @@ class NumericalPhase:
             if r > self._ck.SINGULAR:
                 self.vel_scale = vel
                 return G, S
-        cols = [self._g(t, Y[:, j]) for j, t in enumerate(ts)]
+        cols = [self._g_generic(t, Y[:, j]) for j, t in enumerate(ts)]
         return (np.column_stack([g for g, _ in cols]), np.column_stack([c for _, c in cols]))
 
     def _g(self, t, y):
         if self._ck is not None:
             G, S = self._g_many(np.array([float(t)]), np.asarray(y, float)[:2 * self.n, None])
             return G[:, 0], S[:, 0]
+        return self._g_generic(t, y)
+
+    def _g_generic(self, t, y):
         pt, _, lamN, lamT = self._solve(t, y[:2 * self.n])
         gam = pt.WT.T @ pt.qd
         self.vel_scale = np.maximum(self.vel_scale, np.abs(pt.WT).T @ np.abs(pt.qd))

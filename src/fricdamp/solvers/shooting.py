@@ -492,6 +492,132 @@ class PeriodicOrbit:
         return axes
 
 
+def _neutral_functionals(system, M, y0, modes, invariance_tol=1e-5, details=False):
+    """Invariants ``l`` (rows, unit norm) of the linearised return map M from contacts stuck
+    at every sample of ``modes``; see :class:`NeutralStability` for the rule."""
+    M = np.asarray(M, float)
+    N = M.shape[0]
+    n = N // 2
+    modes = np.asarray(modes)
+    q0 = np.asarray(y0[:n], float)
+    always = [i for i in range(modes.shape[1]) if modes.shape[0] and np.all(modes[:, i] == STICK)]
+    rows, kept, res = [], [], []
+    if always and np.all(np.isfinite(M)):
+        WT = np.asarray(system.tangent_jacobian(q0), float)
+        cons = np.flatnonzero(np.asarray(system.normal_constrained, bool))
+        WN = (np.asarray(system.normal_jacobian(q0), float)[:, cons] if cons.size
+              else np.zeros((n, 0)))
+        for i in always:
+            B = np.zeros((1 + cons.size, N))
+            B[0, :n] = WT[:, i]
+            B[1:, :n] = WN.T
+            B /= np.maximum(np.linalg.norm(B, axis=1), 1e-300)[:, None]
+            _, _, Vt = np.linalg.svd((M - np.eye(N)).T @ B.T)
+            ell = Vt[-1] @ B
+            r = float(np.linalg.norm(ell @ (M - np.eye(N))) / max(np.linalg.norm(ell), 1e-300))
+            res.append(r)
+            if r <= invariance_tol:
+                rows.append(ell / np.linalg.norm(ell))
+                kept.append(i)
+    L = np.array(rows) if rows else np.zeros((0, N))
+    return (L, kept, res) if details else L
+
+
+@dataclass(frozen=True)
+class NeutralStability:
+    """Stability of an orbit with the neutral directions of always-stuck contacts excluded.
+
+    A contact that sticks during the whole orbit never releases its tangential preload: the
+    orbits with a slightly different locked-in preload (a different place where the contact
+    sticks) are periodic too, so the orbit belongs to a one-parameter family per such contact
+    and has a multiplier exactly 1 (neutral; paper 000's damper at 58 Hz, 8 N: K1 sticks all
+    the time). Time integration stays on whichever member it reached: such an orbit is
+    stable in the practical sense when all *other* multipliers lie inside the unit circle.
+
+    The rule (:func:`neutral_stability`): for each contact stuck at every sample of the
+    orbit, the invariant of the linearised return map is sought in the span of its
+    tangential displacement functional ``[W_T,i(q0), 0]`` and the normal ones ``[W_N,j(q0),
+    0]`` of the constrained contacts (the return map begins with the projection onto closed
+    gaps): the unit row ``l`` minimising ``|l (M - I)|`` (smallest singular value). If that
+    residual is at most ``invariance_tol``, ``l`` is the known neutral direction: the
+    multipliers of M restricted to ``ker l`` (which M maps into itself) are the others. A
+    contact that slips somewhere, or a residual above the tolerance, excludes nothing.
+
+    Attributes
+    ----------
+    stable : bool
+        Every multiplier but the excluded neutral ones has ``|mu| < 1 - stability_margin``.
+    stable_strict : bool
+        All multipliers inside (False whenever a neutral multiplier exists).
+    max_multiplier : float
+        Largest |mu| after the exclusion.
+    multipliers : ndarray of complex, shape (2 n_dof - n_neutral,)
+        Multipliers of the restricted map, by decreasing modulus.
+    neutral_contacts : tuple of int
+        Contacts whose neutral direction was excluded.
+    invariance_residuals : tuple of float
+        ``|l (M - I)|`` of each always-stuck contact (excluded when <= the tolerance).
+    """
+
+    stable: bool
+    stable_strict: bool
+    max_multiplier: float
+    multipliers: np.ndarray
+    neutral_contacts: tuple
+    invariance_residuals: tuple
+
+    def summary(self) -> dict:
+        return {"stable": bool(self.stable), "stable_strict": bool(self.stable_strict),
+                "max_multiplier_excluding_neutral": float(self.max_multiplier),
+                "neutral_contacts": [int(i) for i in self.neutral_contacts],
+                "invariance_residuals": [float(r) for r in self.invariance_residuals]}
+
+
+def neutral_stability(system: ConstrainedSystem, orbit: PeriodicOrbit, *,
+                      invariance_tol: float = 1e-5,
+                      stability_margin: float = 1e-6) -> NeutralStability:
+    """Practical stability of a periodic orbit: neutral multipliers of always-stuck contacts
+    excluded by their invariant (see :class:`NeutralStability` for the rule).
+
+    Parameters
+    ----------
+    system : ConstrainedSystem
+        The system the orbit belongs to (its ``W_T``, ``W_N`` at the section state are used).
+    orbit : PeriodicOrbit
+        A converged orbit (its monodromy and sampled contact modes).
+    invariance_tol : float
+        Largest ``|l (M - I)|`` (unit l) accepted as an exact invariant. The monodromy of
+        DOP853 phases carries errors of about 1e-7 (Magnus steps and central differences; the
+        blade damper's neutral multiplier comes out as 1.00000003), exact phases round-off;
+        a contact that is not neutral gives O(0.1-1).
+    stability_margin : float
+        ``stable`` when the remaining ``max |mu| < 1 - stability_margin``.
+
+    Returns
+    -------
+    NeutralStability
+    """
+    M = np.asarray(orbit.monodromy, float)
+    N = M.shape[0]
+    modes = np.asarray(orbit.modes)
+    mu_all = np.linalg.eigvals(M)
+    strict = bool(np.abs(mu_all).max() < 1 - stability_margin) if N else True
+    L, kept, res = _neutral_functionals(system, M, orbit.y0, modes, invariance_tol,
+                                        details=True)
+    if L.shape[0]:
+        _, sv, Vt = np.linalg.svd(L)
+        rank = int(np.sum(sv > 1e-8 * sv[0]))
+        Q = Vt[rank:].T  # orthonormal basis of ker L, mapped into itself by M
+        mu = np.linalg.eigvals(Q.T @ M @ Q)
+    else:
+        mu = mu_all
+    mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+    mx = float(np.abs(mu).max()) if mu.size else 0.0
+    return NeutralStability(stable=bool(mx < 1 - stability_margin), stable_strict=strict,
+                            max_multiplier=mx, multipliers=mu, neutral_contacts=tuple(kept),
+                            invariance_residuals=tuple(res))
+
+
 def _scales(q, qd):
     sq = max(float(np.abs(q).max()) if q.size else 0.0, 1e-300)
     sv = max(float(np.abs(qd).max()) if qd.size else 0.0, 1e-300)
@@ -593,10 +719,19 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
     while norm > tol and it < max_iter:
         it += 1
         A = fl.monodromy - np.eye(2 * n)
-        try:
-            step = -np.linalg.solve(A, r)
-        except np.linalg.LinAlgError:
-            step = -np.linalg.lstsq(A, r, rcond=1e-14)[0]
+        # a contact stuck during the whole orbit makes the fixed point non-isolated (a
+        # family of orbits with multiplier 1, see NeutralStability); the step then keeps
+        # its invariant l . y (the locked-in tangential preload, which the dynamics keep
+        # too), instead of jumping along the family by (residual / |mu - 1|)
+        L = _neutral_functionals(system, fl.monodromy, y, fl.result.modes)
+        if L.shape[0]:
+            step = -np.linalg.lstsq(np.vstack([A, L]), np.concatenate([r, np.zeros(len(L))]),
+                                    rcond=1e-12)[0]
+        else:
+            try:
+                step = -np.linalg.solve(A, r)
+            except np.linalg.LinAlgError:
+                step = -np.linalg.lstsq(A, r, rcond=1e-14)[0]
         lam = 1.0
         best = None
         for _ in range(10):
@@ -852,5 +987,6 @@ def continue_orbits(build: Callable[[float], ConstrainedSystem], omegas: Sequenc
                        np.array([o.success for o in out]))
 
 
-__all__ = ["Flow", "OrbitBranch", "PeriodicOrbit", "continue_orbits", "detect_period_multiple",
+__all__ = ["Flow", "NeutralStability", "OrbitBranch", "PeriodicOrbit", "continue_orbits",
+           "detect_period_multiple", "neutral_stability",
            "flow", "shoot"]
