@@ -49,6 +49,7 @@ from numba import njit
 
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.limits import check_time_memory
 from fricdamp.solvers.newmark import NewmarkScheme
 from fricdamp.solvers.timestep import EnergyBalance, check_time_span
 from fricdamp.structure.system import MechanicalSystem
@@ -640,6 +641,10 @@ def integrate_contact3d(system: MechanicalSystem, t_end: float, dt: float, *, q0
     out = np.arange(n) if output_dofs is None else np.asarray(output_dofs, dtype=np.int64)
     if out.ndim != 1 or (out.size and (out.min() < 0 or out.max() >= n)):
         raise ModelError(f"output_dofs must be DOF indices in [0, {n - 1}]")
+    # refuse before allocating the saved histories (dt = 1e-12: a MemoryError of TiB)
+    check_time_memory(float(t_end) - float(t0), float(dt), int(out.size),
+                      sum(c.n_contacts * c.n_dir for c in system.contacts),
+                      save_every=save_every, value=dt)
     laws, kn, kt, mus, mud, dc, g0 = _contact_parameters(system)
     w, s = _split_states(laws, states0)
 

@@ -41,6 +41,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.limits import check_time_memory
 from fricdamp.solvers.newmark import STRATEGIES, NewmarkScheme
 from fricdamp.structure.system import MechanicalSystem
 
@@ -82,9 +83,19 @@ def check_time_span(t_end, dt, *, t0: float = 0.0, method: str = "newmark",
                     alpha: float = -0.05) -> float:
     """Check the arguments every Newmark/HHT integrator takes; return the alpha to use
     (0 for Newmark). Raises ModelError naming the argument and its range."""
-    if not (np.isfinite(dt) and dt > 0):
+    def number(name, x):
+        if isinstance(x, bool):
+            return float("nan")
+        try:
+            return float(x)
+        except (TypeError, ValueError):
+            raise ModelError(f"{name} must be a number [s], got {x!r}") from None
+
+    if not (np.isfinite(number("dt", dt)) and dt > 0):
         raise ModelError(f"dt must be a finite time step > 0 s, got {dt!r}")
-    if not (np.isfinite(t_end) and t_end > t0):
+    if not np.isfinite(number("t0", t0)):
+        raise ModelError(f"t0 must be a finite time [s], got {t0!r}")
+    if not (np.isfinite(number("t_end", t_end)) and t_end > t0):
         raise ModelError(f"t_end must be > t0 = {t0} s, got {t_end!r}")
     if method not in ("newmark", "hht"):
         raise ModelError(f"method must be 'newmark' or 'hht', got {method!r}")
@@ -128,6 +139,10 @@ class TimeResult(EnergyBalance):
         ``status`` 0 = finished, 1 = stopped by a Newton failure (with ``throw=False``).
     n_steps, n_newton : int
         Steps taken and total Newton iterations.
+    verdict : fricdamp.verdict.Verdict
+        Whether the history can be trusted (:func:`fricdamp.verdict.time_result_verdict`:
+        energy balance, period error of the linear part at the step of the run, negative
+        dissipation; ``failed`` when the run stopped early). Judged on first access.
     """
 
     t: np.ndarray
@@ -160,6 +175,27 @@ class TimeResult(EnergyBalance):
         :func:`energy_balance_error`); the algorithmic dissipation of HHT-alpha (alpha < 0)
         shows up here too."""
         return energy_balance_error(self.energy)
+
+    @property
+    def verdict(self):
+        """:class:`fricdamp.verdict.Verdict` of the run, judged on first access.
+
+        ``simulate`` records the system and the step of the run; a TimeResult made
+        otherwise (e.g. by ``dataclasses.replace``) is judged on its energy balance and
+        status only."""
+        cached = self.__dict__.get("_verdict")
+        if cached is not None:
+            return cached
+        from fricdamp.verdict import judge, time_result_verdict
+
+        judged_on = self.__dict__.get("_judged_on")
+        if judged_on is not None:
+            v = time_result_verdict(judged_on[0], self, judged_on[1])
+        else:
+            v = judge({"energy_balance_error": self.energy_balance_error},
+                      failed=None if self.success else self.message)
+        self.__dict__["_verdict"] = v    # frozen dataclass: the cache bypasses __setattr__
+        return v
 
     # ----------------------------------------------------------------- export
     def to_xarray(self):
@@ -384,12 +420,17 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
         states0 = [np.array(st, dtype=float) for st in states0]
     if strategy not in STRATEGIES:
         raise ModelError(f"strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
+    # refuse before allocating: dt = 1e-12 over 10 s would be a MemoryError of 70 TiB
+    n_steps = check_time_memory(float(t_end) - float(t0), float(dt), n,
+                                sum(c.n_contacts * c.n_dir for c in system.contacts),
+                                save_every=save_every, value=dt)
     if strategy == "auto":
         strategy = "modal" if _modal_applies(system) else "direct"
     if strategy == "modal":
-        return _simulate_modal(system, t_end, dt, q, v, t0, states0, method, alpha,
-                               save_every, tol, max_iter, throw)
-    n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
+        out = _simulate_modal(system, t_end, dt, q, v, t0, states0, method, alpha,
+                              save_every, tol, max_iter, throw)
+        object.__setattr__(out, "_judged_on", (system, float(dt)))   # for out.verdict
+        return out
     start = time.perf_counter()
     from threadpoolctl import threadpool_limits
 
@@ -397,6 +438,7 @@ def simulate(system: MechanicalSystem, t_end: float, dt: float, *, q0=None, v0=N
         out = _integrate(system, q, v, t0, dt, n_steps, alpha, save_every, tol, max_iter,
                          _progress_default() if progress is None else progress, throw, states0)
     object.__setattr__(out, "runtime_s", time.perf_counter() - start)
+    object.__setattr__(out, "_judged_on", (system, float(dt)))   # for out.verdict
     return out
 
 

@@ -38,6 +38,8 @@ def chain(masses: Sequence[float], springs: Sequence[float], *,
     """
     m = check_positive("masses", np.atleast_1d(np.asarray(masses, float)), unit="kg")
     n = m.size
+    if n == 0:
+        raise ModelError("masses must have at least one entry (one mass [kg] per DOF), got none")
     expected = {"first": n, "both": n + 1, "none": n - 1}
     if ground not in expected:
         raise ModelError(f"ground must be 'first', 'both' or 'none', got {ground!r}")

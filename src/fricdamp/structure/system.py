@@ -58,8 +58,8 @@ def _check_mass(M: Matrix) -> None:
     if np.any(diag <= 0):
         i = int(np.argmin(diag))
         raise ModelError(
-            f"mass matrix M must be positive definite: diagonal entry {i} is {diag[i]:g} kg "
-            "(every DOF needs mass > 0)"
+            f"mass matrix M must be positive definite: its diagonal entry at DOF {i + 1} "
+            f"(counting from 1) is {diag[i]:g} kg (every DOF needs mass > 0)"
         )
     from threadpoolctl import threadpool_limits
 
