@@ -121,7 +121,6 @@ def _describe(case, system) -> str:
 
 def _run(case, out_dir: Path, args) -> int:
     from fricdamp.runner import build_system, run_case
-    from fricdamp.verdict import exit_code
 
     system = build_system(case)
     _out(f"fricdamp {__version__}: {_describe(case, system)}")
@@ -137,7 +136,16 @@ def _run(case, out_dir: Path, args) -> int:
     _out(f"wrote {len(files['figures'])} figures, {files['results']} and {files['summary']} "
          f"to {out_dir} in {time.perf_counter() - t0:.1f} s")
     _out(f"report: {outcome.report.resolve()}")
-    verdict = outcome.summary["verdict"]
+    return say_verdict(outcome.summary["verdict"])
+
+
+def say_verdict(verdict: dict) -> int:
+    """Print the verdict of a command (``summary.json["verdict"]``: ``overall`` and
+    ``analyses``) as its last line and return the exit code: ``verdict: ok`` on stdout (0),
+    else one line on stderr naming the analyses and the first reason of each, as a warning
+    for ``unreliable`` (3) and an error for ``failed`` (1)."""
+    from fricdamp.verdict import exit_code
+
     if verdict["overall"] != "ok":
         bad = [n for n, v in verdict["analyses"].items() if v["verdict"] != "ok"]
         line = (f"verdict: {verdict['overall']} ({', '.join(bad)}): "

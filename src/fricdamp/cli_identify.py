@@ -410,29 +410,54 @@ def _options(args, spec):
 
 def handle_identify(args) -> int:
     """``fricdamp identify``: run the pipeline, write the outputs; return the exit code."""
-    import numpy as np
-
-    from fricdamp.analysis.identify import identify_from_table
-    from fricdamp.iofiles import save_figure, write_json, write_text
+    from fricdamp.iofiles import OutputLock, prepare_output_folder
 
     spec, geom = load_rig_file(args.rig)
     proc, csv, sens = _options(args, spec)
     table = read_signals(args.signals, args.format, **csv)
+    out = Path(args.out) if args.out else Path("fricdamp-out") / \
+        f"identify-{Path(args.signals).stem}"
+    # the folder is created, write-tested and locked before anything is computed
+    prepare_output_folder(out)
+    with OutputLock(out, "identify"):
+        return _identify(args, spec, geom, proc, sens, table, out)
+
+
+def _verdict(ident, d: dict):
+    """The identification's :class:`~fricdamp.verdict.Verdict`: ``unreliable`` with its
+    warnings as reasons, else ``ok`` (also without diagnostics when no check found
+    anything); estimates: the diagnostics' numbers."""
+    from fricdamp.verdict import OK, UNRELIABLE, Verdict
+
+    keys = ("dissipated_energy_J", "confidence_relative_width", "block_scatter",
+            "cycle_energy_relative_spread", "filtered_fraction")
+    est = {k: d[k] for k in keys if isinstance(d.get(k), (int, float))}
+    est["diagnostics"] = ident.trust is not None
+    if ident.status == "unreliable":
+        return Verdict(UNRELIABLE, tuple(ident.warnings), est)
+    return Verdict(OK, (), est)
+
+
+def _identify(args, spec, geom, proc, sens, table, out: Path) -> int:
+    import numpy as np
+
+    from fricdamp.analysis.identify import identify_from_table
+    from fricdamp.cli import say_verdict
+    from fricdamp.iofiles import save_figure, write_json, write_text
+    from fricdamp.verdict import exit_code, verdict_block
+
     ch = spec.channels
     t0 = time.perf_counter()
     ident = identify_from_table(table, geom, channels={"A": ch.A, "B": ch.B, "C": ch.C},
                                 units=ch.unit, sensitivity_mV_per_g=sens or None, **proc)
     elapsed = time.perf_counter() - t0
-    code = EXIT_UNRELIABLE if ident.status == "unreliable" else EXIT_OK
-
-    out = Path(args.out) if args.out else Path("fricdamp-out") / \
-        f"identify-{Path(args.signals).stem}"
-    out.mkdir(parents=True, exist_ok=True)
     d = ident.to_dict()
+    verdict = verdict_block({"identification": _verdict(ident, d)})
+    code = exit_code(verdict["overall"])
     head = {"fricdamp_version": __version__, "signals": str(args.signals),
             "rig": str(args.rig), "exit_code": code}
     write_json(out / "identification.json", {**head, **d})
-    summary = {**head, "identification": d,
+    summary = {"verdict": verdict, **head, "identification": d,
                "geometry": {"d1_m": geom.sensor_a, "d2_m": geom.sensor_b,
                             "d3_m": geom.joint_arm1, "d4_m": geom.sensor_c,
                             "d5_m": geom.joint_arm2, "m2_kg": geom.beam2_mass,
@@ -469,10 +494,11 @@ def handle_identify(args) -> int:
         _out(f"95 % interval of the energy [{lo:.4g}, {hi:.4g}] J; block scatter "
              f"{'n/a' if bs is None else f'{bs:.3g}'}; joint/beam rotation "
              f"{d['conditioning']['joint_to_beam_rotation']:.3g}; status {ident.status}")
-    for w in ident.warnings:
+    said_last = 1 if verdict["overall"] != "ok" else 0   # the verdict's reason, said last
+    for w in ident.warnings[said_last:]:
         _warn(w)
     _out(f"wrote identification.json, summary.json, loop.csv and loop.png to {out}")
-    return code
+    return say_verdict(verdict)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -63,6 +63,7 @@ __all__ = [
     "newmark_period_error",
     "time_result_verdict",
     "time_step_error",
+    "verdict_block",
 ]
 
 OK, UNRELIABLE, FAILED = "ok", "unreliable", "failed"
@@ -157,6 +158,14 @@ def combine(verdicts: Iterable[Verdict]) -> str:
         if _RANK[v.status] > _RANK[worst]:
             worst = v.status
     return worst
+
+
+def verdict_block(verdicts: Mapping[str, Verdict]) -> dict:
+    """``summary.json["verdict"]`` of a command: ``{"overall": worst status, "analyses":
+    {name: {"verdict", "reasons", "estimates"}}}`` (the results contract of ``run``, also
+    written by ``identify`` and ``fit``)."""
+    return {"overall": combine(verdicts.values()),
+            "analyses": {name: v.to_dict() for name, v in verdicts.items()}}
 
 
 def exit_code(status: str) -> int:

@@ -176,7 +176,7 @@ def test_identification_json_and_exit_3_when_unreliable(files, tmp_path, capsys)
     assert "interval of E_d" in d3["warnings"][0]
     assert (out3 / "loop.png").is_file()
     assert "fricdamp: warning:" in capsys.readouterr().err
-    # no diagnostics: never 3
+    # no diagnostics: the interval is not checked, a right record is not unreliable
     assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out3),
                  "--no-diagnostics"]) == 0
 
@@ -193,3 +193,59 @@ def test_wrong_excitation_frequency_exits_3(files, tmp_path, capsys, frequency):
     d = json.loads((out / "identification.json").read_text())
     assert d["status"] == "unreliable"
     assert "is not the signals' strongest line" in d["warnings"][0]
+
+
+def test_wrong_excitation_frequency_without_diagnostics_exits_3(files, tmp_path, capsys):
+    """Issue 15, rerun as written with --no-diagnostics: 45 Hz for a 30 Hz record gave a
+    negative loop area and exit 0 with the warnings only in the log. The frequency check and
+    the sign of the area need no diagnostics: unreliable, exit 3, the verdict as last line."""
+    sig, rig = files
+    out = tmp_path / "f45"
+    capsys.readouterr()
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out),
+                 "--frequency", "45", "--no-diagnostics"]) == 3
+    d = json.loads((out / "identification.json").read_text())
+    assert d["status"] == "unreliable" and d["dissipated_energy_J"] < 0
+    assert "is not the signals' strongest line" in d["warnings"][0]
+    assert any("is not positive" in w for w in d["warnings"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("fricdamp: warning: verdict: unreliable (identification): the "
+                              "given excitation frequency 45 Hz")
+
+
+def test_summary_carries_the_verdict_of_the_results_contract(files, tmp_path, capsys):
+    """summary.json gains verdict = {overall, analyses: {identification: {verdict, reasons,
+    estimates}}} as for fricdamp run; an ok identification ends with 'verdict: ok'."""
+    sig, rig = files
+    out = tmp_path / "ok"
+    capsys.readouterr()
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out)]) == 0
+    v = json.loads((out / "summary.json").read_text())["verdict"]
+    assert v["overall"] == "ok"
+    ident = v["analyses"]["identification"]
+    assert ident["verdict"] == "ok" and ident["reasons"] == []
+    assert ident["estimates"]["dissipated_energy_J"] > 0 and ident["estimates"]["diagnostics"]
+    assert capsys.readouterr().out.strip().splitlines()[-1] == "verdict: ok"
+    out45 = tmp_path / "f45"
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(out45),
+                 "--frequency", "45"]) == 3
+    v = json.loads((out45 / "summary.json").read_text())["verdict"]
+    assert v["overall"] == "unreliable"
+    assert "strongest line" in v["analyses"]["identification"]["reasons"][0]
+
+
+def test_output_folder_is_checked_before_computing(files, tmp_path, capsys, monkeypatch):
+    """An --out that is a file is refused in one line before the signals are processed."""
+    import fricdamp.analysis.identify as ident_module
+
+    def never(*a, **k):
+        raise AssertionError("computed before the output folder was checked")
+
+    monkeypatch.setattr(ident_module, "identify_from_table", never)
+    sig, rig = files
+    blocker = tmp_path / "afile"
+    blocker.write_text("x")
+    capsys.readouterr()
+    assert main(["identify", str(sig), "--rig", str(rig), "--out", str(blocker)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is a file; choose another --out" in err[0]

@@ -362,6 +362,10 @@ class JointIdentification:
         True when rounded time stamps were rebuilt on a uniform grid.
     trust : TrustReport or None
         The diagnostics and verdict (None when ``diagnostics=False``).
+    checks : tuple of str
+        Findings made even without the diagnostics: a given excitation frequency that is
+        not the signals' strongest line, a negative loop area. Either makes the result
+        ``unreliable`` with ``diagnostics=False`` too.
     """
 
     time: np.ndarray
@@ -387,6 +391,7 @@ class JointIdentification:
     skipped_periods: int = 0
     time_snapped: bool = False
     trust: TrustReport | None = None
+    checks: tuple[str, ...] = ()
 
     @property
     def samples_per_period(self) -> float:
@@ -395,13 +400,16 @@ class JointIdentification:
 
     @property
     def status(self) -> str:
-        """``"ok"``, ``"unreliable"`` (see ``warnings``) or ``"unchecked"`` (no diagnostics)."""
-        return "unchecked" if self.trust is None else self.trust.status
+        """``"ok"``, ``"unreliable"`` (see ``warnings``) or ``"unchecked"`` (no diagnostics
+        and none of the ``checks`` found anything)."""
+        if self.trust is None:
+            return "unreliable" if self.checks else "unchecked"
+        return self.trust.status
 
     @property
     def warnings(self) -> tuple:
-        """The diagnostics' findings (empty when unchecked)."""
-        return () if self.trust is None else self.trust.warnings
+        """The diagnostics' findings (without diagnostics: the ``checks``)."""
+        return self.checks if self.trust is None else self.trust.warnings
 
     def cycle(self, samples: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         """One period of the loop (rotation [rad], torque [N m]): the synchronous average.
@@ -667,9 +675,16 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
     xi = paper002_damping_ratio(e_d, th_amp, m_amp, allow_negative=True)
     xi_e = e_d / (np.pi * float(first_harmonic(rotation, n_per))
                   * float(first_harmonic(torque, n_per)))
-    if e_d < 0 and not diagnostics:
-        log.warning("negative loop area %.3g J: the loop runs the wrong way (check the sign "
-                    "conventions and channel assignment) or is noise only", e_d)
+    checks = []
+    if not diagnostics:
+        # what needs no diagnostics still judges the result (a wrong frequency makes a loop
+        # of the wrong period, whose area, even its sign, is meaningless)
+        if mismatch is not None:
+            checks.append(mismatch)
+        if e_d < 0:
+            checks.append(f"the loop area E_d = {e_d:.3g} J is not positive: the loop runs the "
+                          "wrong way (check the sign conventions and channel assignment) or "
+                          "is noise only")
     trust = None
     if diagnostics:
         trust = assess(energy=e_d, damping_ratio=float(xi), damping_ratio_energy=float(xi_e),
@@ -682,15 +697,15 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
                                         warnings=(mismatch, *trust.warnings))
         if trust.status != "ok":  # the verdict travels with the result; callers report it
             log.info("identification unreliable: %s", "; ".join(trust.warnings))
-    elif notes or mismatch:
-        log.warning("%s", "; ".join([*([mismatch] if mismatch else []), *notes]))
+    elif notes:
+        log.warning("%s", "; ".join(notes))
     return JointIdentification(
         time=tw, theta1=theta1, theta2=theta2, x1=x1, rotation=rotation, torque=torque,
         frequency_hz=frequency_hz, n_periods=n_per, dissipated_energy=e_d,
         cycle_energy=cycles, rotation_amplitude=th_amp, torque_amplitude=m_amp,
         damping_ratio=float(xi), kinematics=kinematics, filter=filter, resampled=resampled,
         filtered_fraction=loop.residual, source=source, damping_ratio_energy=float(xi_e),
-        skipped_periods=skip, time_snapped=snapped, trust=trust)
+        skipped_periods=skip, time_snapped=snapped, trust=trust, checks=tuple(checks))
 
 
 #: Largest relative distance between a given excitation frequency and the strongest line of
