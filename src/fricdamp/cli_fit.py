@@ -104,8 +104,8 @@ def handle_fit(args) -> int:
     """``fricdamp fit``: read the loops, fit, write fit.json and fit.png; the exit code."""
     import numpy as np
 
-    from fricdamp.analysis.fit import fit_joint, read_fit_input
-    from fricdamp.iofiles import save_figure, write_json
+    from fricdamp.analysis.fit import read_fit_input
+    from fricdamp.iofiles import OutputLock, prepare_output_folder
 
     fixed = _pairs(args.fixed, "fixed", ints=("joint_cells", "height_classes"))
     initial = _pairs(args.initial, "initial")
@@ -131,16 +131,30 @@ def handle_fit(args) -> int:
     if amps:
         energy = (np.concatenate(amps), np.concatenate(energies), rot.pop())
     target = args.target or ("both" if loops and energy is not None else None)
+    out = Path(args.out) if args.out else Path("fricdamp-out") / f"fit-{args.model}"
+    # the folder is created, write-tested and locked before anything is computed
+    prepare_output_folder(out)
+    with OutputLock(out, "fit"):
+        return _fit(args, loops, energy, target, initial, fixed, out)
+
+
+def _fit(args, loops, energy, target, initial, fixed, out: Path) -> int:
+    from fricdamp.analysis.fit import fit_joint
+    from fricdamp.cli import say_verdict
+    from fricdamp.iofiles import save_figure, write_json
+    from fricdamp.verdict import OK, UNRELIABLE, Verdict, exit_code, verdict_block
+
     t0 = time.perf_counter()
     res = fit_joint(loops, energy=energy, model=args.model, target=target,
                     initial=initial or None, fixed=fixed or None)
     elapsed = time.perf_counter() - t0
-    code = EXIT_UNRELIABLE if res.status == "unreliable" else EXIT_OK
-
-    out = Path(args.out) if args.out else Path("fricdamp-out") / f"fit-{args.model}"
-    out.mkdir(parents=True, exist_ok=True)
     d = res.to_dict()
-    write_json(out / "fit.json", {"fricdamp_version": __version__,
+    est = {"rms_relative": d.get("residual", {}).get("rms_relative"),
+           "raw_condition_number": d.get("conditioning", {}).get("raw_condition_number")}
+    verdict = verdict_block({"fit": Verdict(UNRELIABLE, tuple(res.warnings), est)
+                             if res.status == "unreliable" else Verdict(OK, (), est)})
+    code = exit_code(verdict["overall"])
+    write_json(out / "fit.json", {"verdict": verdict, "fricdamp_version": __version__,
                                   "inputs": [str(p) for p in args.loops],
                                   "target": target or ("loops" if loops else "energy"),
                                   "fixed": {k: list(v) if isinstance(v, tuple) else v
@@ -162,10 +176,11 @@ def handle_fit(args) -> int:
         _out(f"  {name} = {value:.6g}   (95 %: {lo:.6g} .. {hi:.6g})")
     _out(f"RMS residual {100 * res.residual['rms_relative']:.3g} % of the force amplitude; "
          f"status {res.status}")
-    for w in res.warnings:
+    said_last = 1 if verdict["overall"] != "ok" else 0   # the verdict's reason, said last
+    for w in res.warnings[said_last:]:
         _warn(w)
     _out(f"wrote fit.json and fit.png to {out}")
-    return code
+    return say_verdict(verdict)
 
 
 def main(argv: list[str] | None = None) -> int:

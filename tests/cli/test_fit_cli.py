@@ -88,3 +88,37 @@ def test_unreadable_loops_exit_2(cli, tmp_path):
     assert code == 2 and "needs a displacement" in err
     code, _, err = cli("fit", tmp_path / "none.csv", "--model", "jenkins")
     assert code == 2 and "does not exist" in err
+
+
+def test_fit_json_carries_the_verdict_and_ends_with_it(cli, tmp_path, jenkins_loops):
+    """Issue 15's results contract for fit: fit.json's verdict {overall, analyses: {fit}},
+    'verdict: ok' as the last line of a good fit; the output folder is checked before the
+    fit (an --out that is a file: exit 1, one line)."""
+    out = tmp_path / "out"
+    code, stdout, _ = cli("fit", *jenkins_loops, "--model", "jenkins", "--out", out)
+    assert code == 0 and stdout.strip().splitlines()[-1] == "verdict: ok"
+    v = json.loads((out / "fit.json").read_text())["verdict"]
+    assert v["overall"] == "ok" and v["analyses"]["fit"]["reasons"] == []
+    assert v["analyses"]["fit"]["estimates"]["rms_relative"] < 0.02
+    blocker = tmp_path / "afile"
+    blocker.write_text("x")
+    code, stdout, err = cli("fit", *jenkins_loops, "--model", "jenkins", "--out", blocker)
+    assert code == 1 and err.count("\n") == 1 and "is a file; choose another --out" in err
+    assert "slip_force_N" not in stdout                    # nothing was fitted
+
+
+def test_unreliable_fit_ends_with_its_verdict(cli, tmp_path):
+    folder = tmp_path / "identify-run"
+    folder.mkdir()
+    joint = RoughRotationalJoint.paper_002(n_cells=(7, 5))
+    _loop_csv(folder / "loop.csv", joint, 3e-3, n=64, rotational=True,
+              head="phase [-],rotation [rad],torque [N m]")
+    out = tmp_path / "rough"
+    code, _, err = cli("fit", folder, "--model", "rough", "--out", out, "--fixed",
+                       "joint_cells=7,5", "--preload", "100")
+    assert code == 3
+    assert err.strip().splitlines()[-1].startswith("fricdamp: warning: verdict: unreliable "
+                                                   "(fit): ")
+    v = json.loads((out / "fit.json").read_text())["verdict"]
+    assert v["overall"] == "unreliable" and any("rests on" in r
+                                                for r in v["analyses"]["fit"]["reasons"])
