@@ -73,6 +73,41 @@ def test_one_hz_at_2_5_steps_per_period_exits_3(cli, write_case, tmp_path):
     assert (out / "results.nc").exists()
 
 
+STIFF_CONTACT = """\
+name = "stiff_contact"
+[model]
+type = "chain"
+masses_kg = [1.0e6]
+springs_N_per_m = [1.0e10]
+[[contacts]]
+type = "jenkins"
+dofs = [1]
+stiffness_N_per_m = 1.0e10
+slip_force_N = 2236.0
+[analysis.free_decay]
+initial_displacement_m = [4.472e-6]   # 0.1 J
+duration_s = 4.44
+time_step_s = 2.22e-2                 # 2 steps per period of the stuck system (22.5 Hz)
+"""
+
+
+def test_stiff_contact_at_two_steps_per_period_exits_3(cli, write_case, tmp_path):
+    """Why, as written: a stiff contact (k_t 1e10) at ~2 steps per period had an energy
+    balance error of 0.57 and a contact dissipating 0.2 J of 0.1 J, exit 0. Now unreliable
+    (exit 3), the energy balance first among the reasons, the results written."""
+    out = tmp_path / "out"
+    code, _, err = cli("run", write_case(STIFF_CONTACT), "--out", out, "--no-progress")
+    assert code == 3, err
+    line = _one_line(err)
+    assert line.startswith("fricdamp: warning: verdict: unreliable (free_decay): energy "
+                           "balance error 0.56")
+    s = _summary(out)
+    assert s["free_decay"]["contact_dissipation_J"] > 2 * s["free_decay"]["initial_energy_J"]
+    fd = s["verdict"]["analyses"]["free_decay"]
+    assert fd["estimates"]["energy_balance_error"] > 0.5
+    assert fd["estimates"]["step_doubling_error"] > 0.02       # seen by step doubling too
+
+
 BEAM = (ROOT / "examples" / "cases" / "beam_friction_frf.toml").read_text()
 BEAM_FRF = BEAM[: BEAM.index("[analysis.nma]")]
 
