@@ -65,8 +65,9 @@ def test_resonance_of_the_1g_65deg_design_is_a_period_two_orbit():
     above."""
     from fricdamp.solvers.shooting import shoot
 
-    p = BladeDamperParameters(excitation_amplitude=8.0, damper_mass=1e-3, gamma_deg=65.0,
-                              centrifugal_force=100.0, excitation_frequency=50.915)
+    p = BladeDamperParameters().with_(excitation_amplitude=8.0, damper_mass=1e-3,
+                                      gamma_deg=65.0, centrifugal_force=100.0,
+                                      excitation_frequency=50.915)
     ss = steady_state_amplitude(p)
     assert ss.converged and ss.periodic and ss.stable and ss.period_multiple == 2
     ref, tr = _long_run_amplitude(p, 300, 2.0)
@@ -151,3 +152,29 @@ def test_default_study_has_no_boundary_without_lift_off():
     d = ds.to_dict()
     assert d["optimum"]["gamma_deg"] == 65.0 and d["optimum_on_validity_boundary"] is False
     assert d["validity_boundary"] == []
+
+
+def test_unconverged_designs_near_the_optimum_are_found():
+    """The design verdict's input: valid designs with an unconverged steady state, grid and
+    bisection alike; an invalid (lifting-off) design does not count."""
+    from fricdamp.analyses.blade_damper import _unconverged_valid_designs
+
+    A = np.array([[[3.0, 1.0], [2.0, 4.0]]])
+    ds = DesignStudy(damper_mass_kg=np.array([1e-3, 2e-3]), gamma_deg=np.array([50.0, 80.0]),
+                     parabolas=((-80.0, 2e-3),), blade_amplitude_m=A,
+                     peak_frequency_hz=np.full(A.shape, 51.0),
+                     converged=np.array([[[True, False], [False, True]]]),
+                     valid=np.array([[[True, False], [True, True]]]),
+                     centrifugal_acceleration=1e5, frequency_hz=np.array([51.0]),
+                     boundary=({"parabola": 0, "damper_mass_kg": 1e-3, "gamma_valid_deg": 57.5,
+                                "gamma_invalid_deg": 65.0, "blade_amplitude_m": 2.5,
+                                "peak_frequency_hz": 51.0,
+                                "refined": [{"gamma_deg": 65.0, "blade_amplitude_m": 0.5,
+                                             "peak_frequency_hz": 51.0, "valid": False,
+                                             "converged": False, "min_normal_force_N": -1.0},
+                                            {"gamma_deg": 57.5, "blade_amplitude_m": 2.5,
+                                             "peak_frequency_hz": 51.0, "valid": True,
+                                             "converged": False, "min_normal_force_N": 1.0}]},))
+    d = ds.to_dict()
+    assert d["optimum"]["blade_amplitude_m"] == 2.0
+    assert _unconverged_valid_designs(d) == [(2e-3, 50.0, 2.0), (1e-3, 57.5, 2.5)]

@@ -9,7 +9,13 @@ Summary contract (issue 3), top-level keys::
     pulloff: [{"gamma_deg", "F_Z_N", "frequency_hz": [...], "F_e_limit_N": [...],
                "stuck_eigenfrequencies_hz": [...]}, ...]          (one per (gamma, F_Z) pair)
     design: {"damper_mass_kg": [...], "gamma_deg": [...], "blade_amplitude_m": [[...]],
-             "optimum": {"damper_mass_kg", "gamma_deg", "blade_amplitude_m"}}
+             "optimum": {"damper_mass_kg", "gamma_deg", "blade_amplitude_m"},
+             "optimum_on_validity_boundary": bool,                        (issue 14)
+             "validity_boundary": [{"damper_mass_kg", "gamma_valid_deg",
+                                    "gamma_invalid_deg", ...}, ...]}      (one per mass)
+
+and in the ``time_response`` section (issue 14): ``period_multiple``, ``stable``,
+``cpu_s_per_period`` and ``orbit`` (the steady periodic orbit by shooting).
 
 The model object is a :class:`~fricdamp.models.blade_damper.BladeDamperSystem` (set-valued
 Coulomb friction at two contacts, integrated by the exact event-driven solver); its contacts
@@ -483,10 +489,22 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
     n_bad = summary["n_designs"] - summary["n_valid_designs"]
     reasons = [] if summary["n_valid_designs"] else [
         "no design point is valid (the damper lifts off or the solver failed)"]
-    if not design["converged"]:
-        reasons.append("some stick-slip steady states are neither converged periodic orbits "
-                       "nor stationary beating responses (a transient is not a steady state): "
-                       "their amplitudes are window estimates")
+    # a valid design with a steady state that is neither a converged periodic orbit nor a
+    # stationary beating response has an uncertain resonant amplitude: the optimum is
+    # unreliable when that design is the optimum or within CLOSE of it (it could be)
+    shaky = _unconverged_valid_designs(design)
+    opt_a = opt["blade_amplitude_m"]
+    close = [(m, g, a) for m, g, a in shaky if np.isfinite(opt_a) and a <= (1 + CLOSE) * opt_a]
+    if close:
+        reasons.append("the optimum is uncertain: design(s) " + ", ".join(
+            f"m_D = {m:g} kg, gamma = {g:.4g} deg ({a:.3g} m)" for m, g, a in close)
+            + f" within {CLOSE:.0%} of the optimum have steady states that are neither "
+            "converged periodic orbits nor stationary beating responses (a transient is not a "
+            "steady state)")
+    elif shaky:
+        notes.append(f"{len(shaky)} valid design(s) have unconverged steady states (amplitude "
+                     f"more than {CLOSE:.0%} above the optimum, which they cannot change): "
+                     + ", ".join(f"m_D = {m:g} kg, gamma = {g:.4g} deg" for m, g, _ in shaky))
     if design["n_nonperiodic_steady_states"]:
         notes.append(f"{design['n_nonperiodic_steady_states']} stick-slip steady states have "
                      "no stable periodic orbit (beating responses, amplitude from two long "
@@ -494,6 +512,25 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
     verdict = judge({"invalid_designs": n_bad}, reasons=reasons)
     return AnalysisOutput(summary=summary, figures=figures, headline=headline, notes=notes,
                           top_level={"design": design}, verdict=verdict)
+
+
+#: Relative margin over the optimum within which an unconverged design could be the optimum.
+CLOSE = 0.10
+
+
+def _unconverged_valid_designs(design) -> list[tuple[float, float, float]]:
+    """(damper mass, gamma, amplitude) of the valid designs (grid and boundary bisection) with
+    a steady state that did not converge."""
+    out = []
+    for par in design["parabolas"]:
+        for i, m in enumerate(design["damper_mass_kg"]):
+            for j, g in enumerate(design["gamma_deg"]):
+                if par["valid"][i][j] and not par["converged"][i][j]:
+                    out.append((m, g, float(par["blade_amplitude_m"][i][j])))
+    for b in design["validity_boundary"]:
+        out.extend((b["damper_mass_kg"], r["gamma_deg"], r["blade_amplitude_m"])
+                   for r in b["refined"] if r["valid"] and not r["converged"])
+    return out
 
 
 def _progress(bar):
