@@ -76,3 +76,32 @@ def test_mass_matrix_message_counts_dofs_from_1():
         MechanicalSystem(M=np.diag([1.0, 0.0, 1.0]), K=np.eye(3))
     with pytest.raises(ModelError, match=r"at DOF 3 \(counting from 1\) is -1 kg"):
         chain([1.0, 1.0], [1.0, 1.0]).__class__(M=np.diag([1.0, 1.0, -1.0]), K=np.eye(3))
+
+
+@pytest.mark.parametrize("name", ["run.nc", "run.npz"])
+def test_time_result_save_on_a_full_disk_leaves_no_temporary_file(tmp_path, monkeypatch, name):
+    """Why (faults): a full disk left temporary files behind. ``TimeResult.save`` writes
+    through a temporary file that is removed when the write fails; the OSError names the
+    disk-full reason to the caller."""
+    import errno
+
+    import xarray as xr
+
+    def full(self, path, *a, **k):
+        with open(path, "wb") as fh:      # a partial file, then the disk is full
+            fh.write(b"CDF")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    def full_npz(fh, *a, **k):
+        fh.write(b"PK")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", full)
+    monkeypatch.setattr(np, "savez", full_npz)
+    res = simulate(ONE_HZ, 0.1, 1e-2, q0=[1.0], progress=False)
+    with pytest.raises(OSError, match="No space left"):
+        res.save(tmp_path / name)
+    assert list(tmp_path.iterdir()) == []
+    monkeypatch.undo()
+    res.save(tmp_path / name)
+    assert [p.name for p in tmp_path.iterdir()] == [name]

@@ -224,18 +224,20 @@ class TimeResult(EnergyBalance):
         return ds
 
     def save(self, path) -> None:
-        """Save to netCDF (``.nc``) or numpy (``.npz``), atomically."""
+        """Save to netCDF (``.nc``) or numpy (``.npz``), atomically: a write that fails
+        (disk full) or is interrupted leaves neither a partial file nor a temporary one."""
         from pathlib import Path
 
+        from fricdamp.iofiles import atomic_path
+
         path = Path(path)
-        tmp = path.with_name(path.name + ".tmp")
-        if path.suffix == ".npz":
-            with open(tmp, "wb") as fh:
-                np.savez(fh, **{k: v.values for k, v in self.to_xarray().data_vars.items()},
-                         t=self.t)
-        else:
-            self.to_xarray().to_netcdf(tmp, engine="scipy")
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:
+            if path.suffix == ".npz":
+                with open(tmp, "wb") as fh:
+                    np.savez(fh, **{k: v.values for k, v in
+                                    self.to_xarray().data_vars.items()}, t=self.t)
+            else:
+                self.to_xarray().to_netcdf(tmp, engine="scipy")
 
     def plot(self, dofs=None, ax=None):
         """Displacement histories of the chosen DOFs (indices, default all); returns the axes."""
