@@ -202,12 +202,11 @@ def load_rig_file(path):
     import tomllib
 
     from fricdamp.analysis.identify import JointRigGeometry
+    from fricdamp.iofiles import read_regular_file
 
     p = Path(path)
-    if not p.is_file():
-        raise CaseError(f"rig file {str(p)!r} does not exist")
     try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
+        data = tomllib.loads(read_regular_file(p, what="rig file").decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise CaseError(f"{str(p)!r} is not valid TOML: {exc}") from None
     spec = validate_section(RigFile, data, "")

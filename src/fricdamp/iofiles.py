@@ -171,6 +171,34 @@ class OutputLock:
 MAX_TEXT_FILE_BYTES = 16 * 2**20
 
 
+def require_regular_file(path: str | os.PathLike, *, what: str = "file",
+                         error: type[Exception] | None = None) -> os.stat_result:
+    """The ``os.stat`` of ``path``, which must exist and be a regular file.
+
+    A missing path "does not exist"; a folder "is a folder, not a file"; a device or pipe
+    (``/dev/zero``, ``/dev/stdin``) "is not a regular file" (reading it would never end).
+    Raises ``error`` (default :class:`~fricdamp.errors.CaseError`) naming ``what`` and the
+    path.
+    """
+    import stat
+
+    if error is None:
+        from fricdamp.errors import CaseError as error
+    p = Path(path)
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        raise error(f"{what} {str(p)!r} does not exist") from None
+    except OSError as exc:
+        raise error(f"cannot read {what} {str(p)!r}: {_os_reason(exc)}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise error(f"{what} {str(p)!r} is a folder, not a file")
+    if not stat.S_ISREG(st.st_mode):
+        raise error(f"{what} {str(p)!r} is not a regular file (a device or pipe); give "
+                    "the path of a file")
+    return st
+
+
 def read_regular_file(path: str | os.PathLike, *, what: str = "file",
                       max_bytes: int = MAX_TEXT_FILE_BYTES) -> bytes:
     """The bytes of ``path``, which must be a regular file of at most ``max_bytes``.
@@ -178,22 +206,10 @@ def read_regular_file(path: str | os.PathLike, *, what: str = "file",
     Devices, pipes and folders are refused (``/dev/zero`` would never end), and so is a
     file larger than the cap. Raises :class:`~fricdamp.errors.CaseError` naming the path.
     """
-    import stat
-
     from fricdamp.errors import CaseError
 
     p = Path(path)
-    try:
-        st = os.stat(p)
-    except FileNotFoundError:
-        raise CaseError(f"{what} {str(p)!r} does not exist") from None
-    except OSError as exc:
-        raise CaseError(f"cannot read {what} {str(p)!r}: {_os_reason(exc)}") from None
-    if stat.S_ISDIR(st.st_mode):
-        raise CaseError(f"{what} {str(p)!r} is a folder, not a file")
-    if not stat.S_ISREG(st.st_mode):
-        raise CaseError(f"{what} {str(p)!r} is not a regular file (a device or pipe); give "
-                        "the path of a file")
+    st = require_regular_file(p, what=what, error=CaseError)
     if st.st_size > max_bytes:
         raise CaseError(f"{what} {str(p)!r} is {st.st_size / 2**20:.1f} MiB; a {what} may be "
                         f"at most {max_bytes / 2**20:.0f} MiB")

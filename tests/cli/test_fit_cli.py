@@ -122,3 +122,9 @@ def test_unreliable_fit_ends_with_its_verdict(cli, tmp_path):
     v = json.loads((out / "fit.json").read_text())["verdict"]
     assert v["overall"] == "unreliable" and any("rests on" in r
                                                 for r in v["analyses"]["fit"]["reasons"])
+
+
+def test_loop_file_that_is_a_device_is_refused_at_once(cli, tmp_path):
+    code, _, err = cli("fit", "/dev/zero", "--model", "jenkins", "--out", tmp_path / "x")
+    assert code == 2 and err.count("\n") == 1
+    assert "loop file '/dev/zero' is not a regular file" in err

@@ -249,3 +249,21 @@ def test_output_folder_is_checked_before_computing(files, tmp_path, capsys, monk
     assert main(["identify", str(sig), "--rig", str(rig), "--out", str(blocker)]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "is a file; choose another --out" in err[0]
+
+
+@pytest.mark.parametrize("which", ["signals", "rig"])
+@pytest.mark.parametrize("path, message", [
+    ("/dev/zero", "is not a regular file (a device or pipe)"),
+    (".", "is a folder, not a file"),
+])
+def test_devices_and_folders_are_not_files(files, tmp_path, capsys, which, path, message):
+    """Why (faults): ``check /dev/zero`` hung and ``mass = "."`` said "does not exist". The
+    signal and rig files of identify are refused at once as what they are (exit 2)."""
+    sig, rig = files
+    args = [path if which == "signals" else str(sig), "--rig",
+            path if which == "rig" else str(rig)]
+    capsys.readouterr()
+    assert main(["identify", *args, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0] and "does not exist" not in err[0]
+    assert f"{'signal' if which == 'signals' else 'rig'} file {path!r}" in err[0]

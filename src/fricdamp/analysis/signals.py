@@ -418,9 +418,10 @@ def _table_at_rate(p: Path, data: dict, names: list, units: list, time_column,
 
 def _parse_csv(path, delimiter, decimal, skip_rows):
     """Columns of a delimited text table: ``(names, units, data, body lines)``."""
+    from fricdamp.iofiles import require_regular_file
+
     p = Path(path)
-    if not p.is_file():
-        raise ModelError(f"signal file {str(p)!r} does not exist")
+    require_regular_file(p, what="signal file", error=ModelError)
     raw = p.read_bytes()
     try:
         text = raw.decode("utf-8-sig")
@@ -647,8 +648,9 @@ def read_fit_input(path):
             raise ModelError(f"{str(p)!r} is a folder without loop.csv (expected the output "
                              "folder of fricdamp identify)")
         p = p / "loop.csv"
-    if not p.is_file():
-        raise ModelError(f"loop file {str(p)!r} does not exist")
+    from fricdamp.iofiles import require_regular_file
+
+    require_regular_file(p, what="loop file", error=ModelError)
     tab = read_table_csv(p)
     roles = {}
     for name in tab:

@@ -90,9 +90,10 @@ def read_signals_uff(path, *, time_tolerance: float = 1e-9,
         pyuff.UFF("rig.uff").write_sets(ds, mode="overwrite")
         read_signals_uff("rig.uff")["acc_A"]
     """
+    from fricdamp.iofiles import require_regular_file
+
     p = Path(path)
-    if not p.is_file():
-        raise ModelError(f"UFF file {str(p)!r} does not exist")
+    require_regular_file(p, what="UFF file", error=ModelError)
     try:
         import pyuff
     except ImportError as exc:  # pragma: no cover - pyuff is a dependency
