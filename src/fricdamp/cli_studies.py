@@ -511,7 +511,10 @@ def handle_sweep(args) -> int:
         _out(f"wrote sweep.nc, summary.json, report.html, report.md and "
              f"{len(summary['files']['figures'])} figures to {out}")
         _out(f"report: {(out / 'report.html').resolve()}")
+        # the verdict is the last line, as for fricdamp run
         if n_failed:
+            _err(f"verdict: failed at {n_failed} of {summary['points_total']} points (listed "
+                 "under points_failed in summary.json)")
             return EXIT_FAILURE
         worst = max((float(ds[v].max()) for v in ds.data_vars if v.endswith("__verdict")),
                     default=0.0)
@@ -519,9 +522,11 @@ def handle_sweep(args) -> int:
             _err("verdict: failed at some points (the '<analysis>__verdict' result is 2)")
             return EXIT_FAILURE
         if worst >= 1:
-            _err("verdict: unreliable at some points (the '<analysis>__verdict' result is 1; "
-                 "run one of them with fricdamp run to see why)")
+            print("fricdamp: warning: verdict: unreliable at some points (the "
+                  "'<analysis>__verdict' result is 1; run one of them with fricdamp run to "
+                  "see why)", file=sys.stderr)
             return EXIT_UNRELIABLE
+        _out("verdict: ok")
         return EXIT_OK
 
     return _run_guarded(run, args, out)

@@ -400,7 +400,25 @@ def test_sweep_of_unreliable_points_exits_3(cli, write_case, tmp_path):
     code, _, err = cli("sweep", write_case(ONE_HZ), "--grid", "duration_s=9:10:2", "--serial",
                        "--out", out, "--no-progress", "--no-figures")
     assert code == 3, err
-    assert "unreliable at some points" in _one_line(err)
+    assert _one_line(err).startswith("fricdamp: warning: verdict: unreliable at some points")
     s = json.loads((out / "summary.json").read_text())
     assert s["results"]["free_decay__verdict"]["max"] == 1.0
     assert "Verdict: unreliable" in (out / "report.html").read_text()
+
+
+def test_sweep_with_failed_points_ends_with_its_verdict(cli, write_case, tmp_path):
+    """A sweep over the slip force of the stiff contact (k_t 1e10 at 2 steps per stuck
+    period): Newton fails at F_s = 10 N, not at 1 N. Exit 1, the failure listed, and the
+    verdict as the last line naming how many points failed."""
+    case = replace_once(BASE_CASE, "stiffness_N_per_m = 1.0e4", "stiffness_N_per_m = 1.0e10")
+    case = replace_once(case, "time_step_s = 5.0e-4", "time_step_s = 3.0e-5")
+    case = replace_once(case, "duration_s = 0.5", "duration_s = 0.07")
+    case = replace_once(case, "initial_displacement_m = [1.0e-3]",
+                        "initial_displacement_m = [4.472e-3]")
+    code, stdout, err = cli("sweep", write_case(case), "--grid", "slip_force_N=1,10",
+                            "--serial", "--out", tmp_path / "sw", "--no-progress",
+                            "--no-figures")
+    assert code == 1, err
+    assert "failed at slip_force_N=10" in stdout
+    assert _one_line(err) == ("fricdamp: error: verdict: failed at 1 of 2 points (listed "
+                              "under points_failed in summary.json)")

@@ -75,6 +75,7 @@ def test_sweep_writes_results_that_obey_the_closed_forms(case, run, tmp_path):
                                "--out", out)
     assert code == 0, stderr
     assert "6 points: 6 computed, 0 reused, 0 failed" in stdout
+    assert stdout.strip().splitlines()[-1] == "verdict: ok"      # last, as for fricdamp run
     with xr.open_dataset(out / "sweep.nc", engine="scipy") as ds:
         ds = ds.load()
     assert ds["free_decay__initial_energy_J"].dims == ("stiffness_N_per_m",
