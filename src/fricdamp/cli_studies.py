@@ -31,7 +31,8 @@ that varies, ``report.html`` and ``report.md`` (sweep); ``optimum.json``, ``hist
 failed (results still written) or the study could not run (no Dask worker alive, scheduler
 lost: the finished points are stored, the lost ones are not), 2 invalid input (a bad
 ``--scheduler`` address included), 3 every point computed but some are unreliable (their
-``<analysis>__verdict`` result is 1), 130 interrupted (rerun the same command). A lock file
+``<analysis>__verdict`` result is 1; optimize: the analyses at the optimum are), 130
+interrupted (rerun the same command); the verdict is the last line, as for ``run``. A lock file
 keeps two studies out of one folder; Dask's own messages go to ``dask.log`` there.
 """
 
@@ -594,7 +595,22 @@ def handle_optimize(args) -> int:
              f"{result.n_reused} reused, {result.n_failed} failed, in {result.elapsed_s:.1f} s")
         _out(f"wrote optimum.json, history.nc, history.csv and "
              f"{len(summary['files']['figures'])} figures to {out}")
-        return EXIT_OK if result.success else EXIT_FAILURE
+        # the verdict is the last line, as for fricdamp run: the optimizer's, then the
+        # verdicts of the analyses at the optimum
+        if not result.success:
+            _err(f"verdict: failed: the optimizer did not converge ({result.message})")
+            return EXIT_FAILURE
+        bad = {k.removesuffix("__verdict"): v for k, v in (result.results or {}).items()
+               if k.endswith("__verdict") and isinstance(v, (int, float)) and v >= 1}
+        if any(v >= 2 for v in bad.values()):
+            _err(f"verdict: failed at the optimum ({', '.join(bad)})")
+            return EXIT_FAILURE
+        if bad:
+            print(f"fricdamp: warning: verdict: unreliable at the optimum ({', '.join(bad)}): "
+                  "run the case at the optimum with fricdamp run to see why", file=sys.stderr)
+            return EXIT_UNRELIABLE
+        _out("verdict: ok")
+        return EXIT_OK
 
     return _run_guarded(run, args, out)
 

@@ -422,3 +422,16 @@ def test_sweep_with_failed_points_ends_with_its_verdict(cli, write_case, tmp_pat
     assert "failed at slip_force_N=10" in stdout
     assert _one_line(err) == ("fricdamp: error: verdict: failed at 1 of 2 points (listed "
                               "under points_failed in summary.json)")
+
+
+def test_optimum_at_unreliable_points_exits_3(cli, write_case, tmp_path):
+    """An optimum found among points that are all unreliable (the 1 Hz oscillator at 2.5
+    steps per period) is not an ok answer: exit 3 with the verdict as the last line."""
+    out = tmp_path / "opt"
+    code, _, err = cli("optimize", write_case(ONE_HZ), "--minimize", "final_energy_J",
+                       "--over", "duration_s=9:10", "--serial", "--maxiter", "2", "--out", out,
+                       "--no-progress", "--no-figures")
+    assert code == 3, err
+    assert _one_line(err) == ("fricdamp: warning: verdict: unreliable at the optimum "
+                              "(free_decay): run the case at the optimum with fricdamp run to "
+                              "see why")

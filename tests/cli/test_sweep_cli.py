@@ -174,6 +174,7 @@ def test_optimize_finds_the_corner_minimum_of_the_initial_energy(case, run, tmp_
                             "stiffness_N_per_m=1e3:1e4,initial_displacement_m.1=1e-3:2e-3",
                             "--method", "nelder-mead", "--out", out)
     assert code == 0, err
+    assert stdout.strip().splitlines()[-1] == "verdict: ok"      # last, as for fricdamp run
     opt = json.loads((out / "optimum.json").read_text())
     assert opt["objective"] == "free_decay__initial_energy_J"  # the bare key was resolved
     # E0 = (k + k_t) x0^2 / 2 is smallest at the corner k_t = 1e3, x0 = 1e-3: 5.5e-3 J;
