@@ -13,7 +13,10 @@ Makes the paper's figures for the planar blade-damper model into a folder:
 * ``fig12_design.png``        -- resonant blade amplitude q4 over damper mass and gamma
   (000 Fig. 12).
 
-Run ``python examples/000_blade_damper.py [out_dir] [--quick]``. :func:`main` returns the
+Run ``python examples/000_blade_damper.py [out_dir] [--quick]``. The full design grid
+(4 masses x 4 angles x 2 parabolas, steady states by shooting, lift-off boundary bisected per
+mass) takes about an hour of CPU: about a minute per design near the friction-damped
+resonance, where responses switch 28 times per period and some beat. :func:`main` returns the
 results as plain Python data so that a test can import it (``quick=True`` keeps the
 event-driven parts short: a coarse design grid and a short time response).
 """
