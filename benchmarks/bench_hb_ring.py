@@ -5,7 +5,10 @@ ground, coupling springs 0.05 and dashpots 0.005 to ground), a Jenkins contact b
 pair of neighbours (k_t = 0.5, mu N = 0.02), engine-order-3 travelling-wave forcing of
 amplitude 0.01, H = 5, N = 64, Omega from 0.9 to 1.3. Every DOF carries a contact, so the
 full formulation is used: 330 unknowns, Jacobian assembled into a fixed sparse pattern
-(harmonic blocks x ring neighbours), one sparse LU of the bordered Jacobian per Newton step.
+(harmonic blocks x ring neighbours), one LU of the bordered Jacobian per Newton step (by
+dense blocks of the 11 harmonics of a DOF, the block ordering and patterns kept:
+:mod:`fricdamp.solvers._sparse_lu`; the Jenkins AFT step of all contacts in one compiled
+call).
 
 Figures (CPU time ``time.process_time`` and wall time, one BLAS thread; warm = best of 3
 after a first run, cold = the first call in the process, numba caches loading):
