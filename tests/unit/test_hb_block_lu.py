@@ -70,16 +70,46 @@ def test_block_lu_refuses_a_bad_kept_pivot_and_factor_falls_back():
     np.testing.assert_allclose(A @ F.solve(b), b, rtol=1e-12, atol=1e-12)
 
 
+def _block_matrix(n_blocks, size, seed):
+    """Dense blocks on a sparse block pattern (like an HB Jacobian), plus a border row."""
+    rng = np.random.default_rng(seed)
+    pattern = sp.random(n_blocks, n_blocks, density=0.1, random_state=seed) + sp.identity(
+        n_blocks)
+    A = sp.kron(pattern, rng.uniform(-1, 1, (size, size))).tolil()
+    A[np.arange(A.shape[0]), np.arange(A.shape[0])] = 4.0 * size
+    n = A.shape[0]
+    B = sp.lil_matrix((n + 1, n + 1))
+    B[:n, :n] = A
+    B[n, :n] = rng.standard_normal(n)
+    B[:n, n] = rng.standard_normal(n)[:, None]
+    B[n, n] = 1.0
+    B = sp.csc_matrix(B)
+    B.sort_indices()
+    return B
+
+
 def test_factor_with_blocks_matches_superlu():
-    A = _matrix(331, 0.03, 5)
-    b = np.random.default_rng(2).standard_normal(331)
-    F_block = _Factor(A, _Orderings(block_size=11))
+    A = _block_matrix(30, 11, 5)
+    n = A.shape[0]
+    b = np.random.default_rng(2).standard_normal(n)
+    orderings = _Orderings(block_size=11)
+    F_first = _Factor(A, orderings)         # SuperLU: its fill decides for the pattern
+    F_block = _Factor(A, orderings)
     F_super = _Factor(A, _Orderings())
-    assert F_block.block is not None and F_super.block is None
+    assert F_first.block is None and F_block.block is not None and F_super.block is None
     x_b, x_s = F_block.solve(b), F_super.solve(b)
     assert np.max(np.abs(x_b - x_s)) <= 1e-11 * np.max(np.abs(x_s))
     assert F_block.log_det()[0] == F_super.log_det()[0]
     assert F_block.log_det()[1] == pytest.approx(F_super.log_det()[1], rel=1e-12)
+
+
+def test_block_lu_not_used_where_blocks_are_sparse():
+    # a scattered pattern: dense blocks of 11 would store far more than SuperLU's fill
+    A = _matrix(331, 0.01, 6)
+    orderings = _Orderings(block_size=11)
+    _Factor(A, orderings)
+    F = _Factor(A, orderings)
+    assert F.block is None and orderings.items[0].block is None
 
 
 def test_jenkins_harmonic_response_equals_periodic_route():

@@ -99,7 +99,14 @@ class _Ordering:
     recomputed, 3.8 ms reusing the order (benchmarks/bench_hb_ring.py).
     """
 
-    __slots__ = ("indptr", "indices", "n", "trials", "perm", "map", "B", "block")
+    __slots__ = ("indptr", "indices", "n", "trials", "perm", "map", "B", "block",
+                 "block_size")
+
+    #: The dense-block LU serves a pattern if its storage (dense blocks, padded rows) is at
+    #: most this multiple of SuperLU's fill nnz(L) + nnz(U): ring of 30 Jenkins contacts 1.2
+    #: (block LU 3x faster); a structure whose DOF blocks are sparse (harmonics coupled at
+    #: a few contact DOFs only) has ~5, and SuperLU's scalar sparsity wins there.
+    BLOCK_FILL_RATIO = 2.0
 
     def __init__(self, A, block_size: int | None = None):
         self.indptr = A.indptr.copy()
@@ -108,10 +115,9 @@ class _Ordering:
         self.trials = []            # (fill, perm or None)
         self.perm = self.map = self.B = None
         self.block = None
-        if block_size is not None and block_size > 1:
-            from fricdamp.solvers._sparse_lu import BlockLU
-
-            self.block = BlockLU(A, block_size)
+        # block LU requested and not yet decided: decided after SuperLU's first
+        # factorisation of the pattern, whose fill is the yardstick (then None)
+        self.block_size = block_size if block_size is not None and block_size > 1 else None
 
     def matches(self, A) -> bool:
         return (A.shape[0] == self.n and A.indptr.size == self.indptr.size
@@ -137,6 +143,17 @@ class _Ordering:
         pattern, or None: no block analysis, or a pivot failed the threshold rule (then
         SuperLU pivots across blocks). After 20 failures in more than a quarter of the
         factorisations the block path is given up for this pattern."""
+        if self.block is None and self.block_size is not None and self.trials:
+            from fricdamp.solvers._sparse_lu import BlockLU
+
+            b = BlockLU(A, self.block_size)
+            fill = min(f for f, _ in self.trials)
+            self.block_size = None
+            if b.ok and b.size <= self.BLOCK_FILL_RATIO * fill:
+                self.block = b
+            else:
+                logger.debug("block LU: storage %d vs SuperLU fill %d, SuperLU kept", b.size,
+                             fill)
         b = self.block
         if b is None:
             return None
