@@ -51,7 +51,7 @@ def _linear_full_wheel(wheel, nd, freqs, force_N, settings, offset):
     from fricdamp.structure.cyclic import assemble_full
 
     sec = wheel.reduced.sector
-    N, n = wheel.n_sectors, sec.n_dof
+    N = wheel.n_sectors
     full = assemble_full(sec)
     a, b = wheel.sector.rayleigh
     K, M = full.K.tocsc(), full.M.tocsc()
