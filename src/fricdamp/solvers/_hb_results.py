@@ -6,7 +6,7 @@ Used by the drivers of :mod:`fricdamp.solvers.hb`, which re-exports the public n
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
@@ -200,16 +200,22 @@ class SteadyState:
     method: str
     dof_names: tuple[str, ...] = ()
     contact_names: tuple[str, ...] = ()
+    system: object = field(default=None, repr=False, compare=False)
 
     @property
     def verdict(self):
-        """:class:`fricdamp.verdict.Verdict`: ``failed`` if Newton did not converge, else
-        judged on the energy balance; for the harmonic truncation call
-        :func:`fricdamp.verdict.harmonic_truncation` with the system."""
-        from fricdamp.verdict import judge
-
-        return judge({"energy_balance_error": float(self.energy_balance_error)},
-                     failed=None if self.success else self.message)
+        """:class:`fricdamp.verdict.Verdict`, judged on first access: ``failed`` if Newton
+        did not converge; else the energy balance and, when the result knows its system
+        (:func:`harmonic_balance` sets it), the harmonic truncation and AFT sampling error of
+        :func:`fricdamp.verdict.harmonic_truncation` (the point solved again with more
+        harmonics and twice the samples: "H too small" is ``unreliable``)."""
+        cached = self.__dict__.get("_verdict")
+        if cached is None:
+            cached = _hb_verdict(self.system, self.success, self.message,
+                                 float(self.energy_balance_error), float(self.omega),
+                                 self.coefficients, self.harmonics, self.samples)
+            object.__setattr__(self, "_verdict", cached)
+        return cached
 
     def time_history(self, n_samples: int = 256) -> tuple[np.ndarray, np.ndarray]:
         """One period: times t [s] shape (n_samples,) and q(t) shape (n_samples, n_dof)."""
@@ -351,6 +357,7 @@ class FrequencyResponse:
     bifurcations: tuple[Bifurcation, ...] = ()
     stability_error: float = float("nan")
     stability_converged: bool | None = None
+    system: object = field(default=None, repr=False, compare=False)
 
     @property
     def success(self) -> bool:
@@ -373,16 +380,25 @@ class FrequencyResponse:
     def verdict(self):
         """:class:`fricdamp.verdict.Verdict` from what the curve itself knows: ``failed`` if
         the continuation did not reach its end (``status != 0``), ``unreliable`` if the energy
-        balance exceeds its limit. The harmonic truncation needs the system:
-        :func:`fricdamp.verdict.harmonic_truncation` at the peak (the ``frf`` analysis of a
-        case does it)."""
-        from fricdamp.verdict import judge
-
+        balance exceeds its limit. With the system (set by :func:`frequency_response` for a
+        frequency curve) the harmonic truncation and AFT sampling error of
+        :func:`fricdamp.verdict.harmonic_truncation` at the largest response are judged too
+        (computed on first access, then kept)."""
+        cached = self.__dict__.get("_verdict")
+        if cached is not None:
+            return cached
         ebe = float(np.max(self.energy_balance_error)) if self.n_points else float("nan")
         failed = None if self.success else (
             f"the continuation stopped (status {self.status}): {self.message}")
-        return judge({"energy_balance_error": ebe, "peak_truncated": self.peak_truncated},
-                     failed=failed)
+        system = self.system if getattr(self, "parameter", "omega") == "omega" else None
+        ipk = int(np.argmax(np.max(self.amplitude, axis=1))) if self.n_points else 0
+        cached = _hb_verdict(system, failed is None, failed, ebe,
+                             float(self.omega[ipk]) if self.n_points else float("nan"),
+                             self.coefficients[ipk] if self.n_points else None,
+                             self.harmonics, self.samples,
+                             extra={"peak_truncated": self.peak_truncated})
+        object.__setattr__(self, "_verdict", cached)
+        return cached
 
     def steady_state(self, i: int) -> SteadyState:
         """Point ``i`` as a :class:`SteadyState`."""
@@ -392,7 +408,8 @@ class FrequencyResponse:
                            float(self.viscous_dissipation[i]),
                            float(self.energy_balance_error[i]), True, 0, "converged",
                            int(self.iterations[i]), 0.0, self.harmonics, self.samples,
-                           self.method, self.dof_names, self.contact_names)
+                           self.method, self.dof_names, self.contact_names,
+                           system=self.system if self.parameter == "omega" else None)
 
     def peak(self, dof: int = 0, *, refine: bool = True) -> tuple[float, float]:
         """(Omega [rad/s], amplitude [m]) of the largest ``amplitude`` of ``dof``.
@@ -485,3 +502,20 @@ class FrequencyResponse:
         if not self.success:
             ax.set_title(f"incomplete: {self.message}", fontsize="small")
         return ax
+
+
+def _hb_verdict(system, success: bool, message, energy_balance_error: float, omega: float,
+                coefficients, harmonics: int, samples: int, extra: dict | None = None):
+    """Verdict of an HB result: failed, or the energy balance and -- with the system -- the
+    harmonic truncation and AFT sampling error at ``omega`` (see the results' ``verdict``)."""
+    from fricdamp.verdict import harmonic_truncation, judge
+
+    est = {"energy_balance_error": energy_balance_error, **(extra or {})}
+    if not success:
+        return judge(est, failed=message)
+    if system is not None and coefficients is not None and np.all(np.isfinite(coefficients)):
+        trunc = harmonic_truncation(system, omega, coefficients, harmonics=harmonics,
+                                    samples=samples)
+        est["harmonic_truncation"] = trunc.get("harmonic_truncation")
+        est["aft_sampling_error"] = trunc.get("aft_sampling_error")
+    return judge(est)

@@ -257,7 +257,7 @@ def harmonic_balance(system: MechanicalSystem, omega: float, *, harmonics: int =
                        pp["W_contact"][0], float(pp["W_ext"][0]), float(pp["W_visc"][0]),
                        float(err[0]), True, 0, best.message, best.iterations,
                        best.residual_norm, s.H, s.basis.samples, _method_name(form),
-                       system.names, s.contact_names)
+                       system.names, s.contact_names, system=system)
 
 
 def frequency_response(system: MechanicalSystem, omega_start: float, omega_end: float, *,
@@ -463,7 +463,7 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
         pp["W_visc"], err, cres.iterations, cres.turning_points,
         cres.status, cres.message, s.H, s.basis.samples, _method_name(form), wall,
         cres.n_evaluations, cres.n_factorizations, system.names, s.contact_names, scales,
-        param, **stab)
+        param, **stab, system=system)
 
 
 def _postprocess_in_blocks(s: _Setup, X, omegas, scales, max_bytes: float = 16e6):
