@@ -309,6 +309,22 @@ class TimeResponse:
         return not self.errors
 
     @property
+    def verdict(self):
+        """:class:`fricdamp.verdict.Verdict` of the run (the rule of the case file's
+        ``time_response``): ``failed`` when the solver stopped (an error ``"solver: ..."``,
+        e.g. Lemke's method on a ray), else ``unreliable`` with the violated assumptions
+        (a negative normal force: the damper would lift off, which the model excludes) or an
+        energy balance over its limit; the smallest normal force is recorded."""
+        from fricdamp.verdict import judge
+
+        failed = next((e for e in self.errors if e.startswith("solver:")), None)
+        reasons = [e for e in self.errors if not e.startswith("solver:")]
+        ebe = getattr(self.result, "energy_balance_error", None)
+        return judge({"energy_balance_error": None if ebe is None else float(ebe),
+                      "min_normal_force_N": float(self.min_normal_force)},
+                     reasons=reasons, failed=failed)
+
+    @property
     def t(self) -> np.ndarray:
         return self.result.t
 
