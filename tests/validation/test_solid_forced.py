@@ -41,12 +41,17 @@ def wheel():
 
     with threadpool_limits(limits=1):
         sec = build_solid_sector(SolidWheelParameters(mesh_size_m=0.012, contact_divisions=2))
-        return build_contact_wheel(sec.wheel_sector, n_modes=12, n_interface_modes=24)
+        w = build_contact_wheel(sec.wheel_sector, n_modes=12, n_interface_modes=24)
+        w._test_sector = sec                   # the solid behind it, for the rotation terms
+        return w
 
 
-def _linear_full_wheel(wheel, nd, freqs, force_N, settings, offset):
+def _linear_full_wheel(wheel, nd, freqs, force_N, settings, offset, Krot=None, E=None):
     """Probe amplitude of blade 0 from the assembled full wheel with the closed pairs of
-    the rest state as normal springs (independent of solvers/cyclic_hb.py)."""
+    the rest state as normal springs (independent of solvers/cyclic_hb.py); with ``Krot``
+    (reduced, per (rad/s)^2) the wheel turns at ``omega / E``."""
+    from dataclasses import replace
+
     from fricdamp.models.solid_forced import contact_projection, load_phasor
     from fricdamp.structure.cyclic import assemble_full
 
@@ -56,6 +61,8 @@ def _linear_full_wheel(wheel, nd, freqs, force_N, settings, offset):
     a, b = wheel.sector.rayleigh
     K, M = full.K.tocsc(), full.M.tocsc()
     D = a * M + b * K
+    Kr_full = (assemble_full(replace(sec, K=Krot)).K.tocsc() if Krot is not None
+               else 0 * K)
     rest = wheel.static(settings, offset)
     closed = rest.status.reshape(-1) > 0                      # every pair of every contact
     kn = np.tile(wheel.sector.patch.normal_stiffness(wheel.sector.youngs_modulus,
@@ -72,7 +79,8 @@ def _linear_full_wheel(wheel, nd, freqs, force_N, settings, offset):
     out = []
     for fr in freqs:
         w = 2 * np.pi * fr
-        x = spla.spsolve((K + Kc - w * w * M + 1j * w * D).tocsc(), f)
+        spin = (w / E) ** 2 if Krot is not None else 0.0
+        x = spla.spsolve((K + spin * Kr_full + Kc - w * w * M + 1j * w * D).tocsc(), f)
         out.append(abs((T0 @ x)[probe] @ wheel.sector.probe_direction))
     return np.asarray(out), closed.mean()
 
@@ -106,3 +114,32 @@ def test_friction_damps_and_the_energy_balances(wheel):
     i = int(np.argmax(r.amplitude_m))
     assert 0 < i < r.amplitude_m.size - 1     # a peak inside the band
     assert r.damping_ratio[i] > 3e-3          # friction: several times the material 0.1 %
+
+
+def test_speed_locked_frictionless_limit_equals_the_spinning_full_wheel(wheel):
+    """o = 1 of 8 pulses (E = 8 excitations per revolution): at 40-60 Hz the wheel turns at
+    300-450 rpm and its stiffness is K + Omega^2 K_rot (solid stress stiffening minus spin
+    softening, projected by the reduction). The same full-wheel reference with K_rot; the
+    speed stiffening must move the response measurably (else the check could not fail)."""
+    from fricdamp.models.contact_wheel import ContactSettings
+    from fricdamp.models.solid_campbell import rotation_terms
+    from fricdamp.models.solid_forced import (
+        reduced_rotation_stiffness,
+        solid_cyclic_problem,
+        solve_point,
+    )
+
+    settings = ContactSettings(mu_static=0.0, mu_sliding=0.0)
+    freqs = np.array([40.0, 46.0, 54.0])
+    sec = wheel._test_sector
+    rot = rotation_terms(sec.wheel_sector, sec.model)
+    with threadpool_limits(limits=1):
+        off, _ = wheel.calibrate_offset(settings)
+        pb, _ = solid_cyclic_problem(wheel, 2, settings=settings, offset=off, force_N=1e-5,
+                                     rotation=rot, excitations_per_rev=8.0)
+        amp = np.array([solve_point(wheel, pb, f, tol=1e-8)[0] for f in freqs])
+        Kr = reduced_rotation_stiffness(wheel, rot)
+        ref, _ = _linear_full_wheel(wheel, 2, freqs, 1e-5, settings, off, Krot=Kr, E=8.0)
+        still, _ = _linear_full_wheel(wheel, 2, freqs, 1e-5, settings, off)
+    np.testing.assert_allclose(amp, ref, rtol=2e-4)
+    assert np.max(np.abs(ref / still - 1)) > 1e-2

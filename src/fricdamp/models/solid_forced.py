@@ -41,8 +41,8 @@ import scipy.sparse as sp
 
 from fricdamp.errors import ModelError, check_positive
 
-__all__ = ["SolidForcedResponse", "probe_amplitude", "solid_cyclic_problem",
-           "solid_forced_response", "solve_point"]
+__all__ = ["SolidForcedResponse", "probe_amplitude", "reduced_rotation_stiffness",
+           "solid_cyclic_problem", "solid_forced_response", "solve_point"]
 
 
 def _face_dofs(named, name: str, order) -> np.ndarray:
@@ -80,9 +80,23 @@ def load_phasor(wheel, force_N: float) -> np.ndarray:
     return f
 
 
+def reduced_rotation_stiffness(wheel, rotation) -> np.ndarray:
+    """``E^T (K_sigma - K_d) E`` per (rad/s)^2 on the reduced sector (E: the reduction's
+    ``expansion``), from :class:`~fricdamp.structure.system.RotationTerms` on the sector's
+    DOFs (e.g. :func:`fricdamp.models.solid_campbell.rotation_terms`), symmetrised."""
+    Kr = sp.csr_matrix(rotation.stress_stiffening) - sp.csr_matrix(rotation.spin_softening)
+    E = np.asarray(wheel.reduced.expansion)
+    if Kr.shape != (E.shape[0], E.shape[0]):
+        raise ModelError(f"rotation terms must be {E.shape[0]} x {E.shape[0]} (the sector's "
+                         f"DOFs), got {Kr.shape}")
+    A = E.T @ (Kr @ E)
+    return 0.5 * (A + A.T)
+
+
 def solid_cyclic_problem(wheel, nd: int, *, settings=None, offset: float | None = None,
                          force_N: float = 1.0, harmonics: int = 3,
-                         samples: int | None = None):
+                         samples: int | None = None, rotation=None,
+                         excitations_per_rev: float | None = None):
     """The cyclic HB problem of a reduced solid wheel for a forward ``nd`` wave.
 
     Parameters
@@ -100,6 +114,15 @@ def solid_cyclic_problem(wheel, nd: int, *, settings=None, offset: float | None 
     harmonics, samples : int
         H and the AFT samples (default: a multiple of 30 >= 16 H, so that the full
         wheel's AFT is shift-invariant for N = 30).
+    rotation : RotationTerms, optional
+        Stress stiffening and spin softening per (rad/s)^2 on the sector's DOFs
+        (:func:`fricdamp.models.solid_campbell.rotation_terms`); with
+        ``excitations_per_rev`` E (= pulses x order) the response is speed-locked: at
+        excitation frequency Omega the wheel turns at Omega / E and its stiffness is
+        ``K + (Omega / E)^2 K_rot``. The centrifugal *load* is not applied: the contact
+        prestress is the calibrated one (as for the beam wheel).
+    excitations_per_rev : float, optional
+        Needed with ``rotation``.
 
     Returns
     -------
@@ -128,10 +151,16 @@ def solid_cyclic_problem(wheel, nd: int, *, settings=None, offset: float | None 
     if samples is None:
         N = wheel.n_sectors
         samples = N * int(np.ceil(16 * harmonics / N))
+    kw = {}
+    if rotation is not None:
+        if excitations_per_rev is None:
+            raise ModelError("rotation needs excitations_per_rev > 0 (pulses x order)")
+        kw = {"rotation_stiffness": reduced_rotation_stiffness(wheel, rotation),
+              "excitations_per_rev": float(excitations_per_rev)}
     pb = CyclicHarmonicBalance(sec, [ContactElement(law, contact_projection(wheel),
                                                     name="tieboss")],
                                int(nd), load_phasor(wheel, force_N), harmonics=harmonics,
-                               samples=samples)
+                               samples=samples, **kw)
     return pb, float(offset)
 
 
@@ -228,7 +257,8 @@ def solid_forced_response(wheel, nd: int, f_start_hz: float, f_end_hz: float, *,
                           force_N: float = 1.0, settings=None, offset: float | None = None,
                           harmonics: int = 3, samples: int | None = None,
                           step: float = 0.02, max_points: int = 300,
-                          tol: float = 1e-9) -> SolidForcedResponse:
+                          tol: float = 1e-9, rotation=None,
+                          excitations_per_rev: float | None = None) -> SolidForcedResponse:
     """Continuation of the ``nd`` travelling-wave response from ``f_start_hz`` to
     ``f_end_hz`` (see :func:`solid_cyclic_problem` for the other parameters and
     :func:`~fricdamp.solvers.cyclic_hb.cyclic_frequency_response` for ``step``,
@@ -238,7 +268,8 @@ def solid_forced_response(wheel, nd: int, f_start_hz: float, f_end_hz: float, *,
     for name, v in (("f_start_hz", f_start_hz), ("f_end_hz", f_end_hz)):
         check_positive(name, v, unit="Hz")
     pb, _ = solid_cyclic_problem(wheel, nd, settings=settings, offset=offset,
-                                 force_N=force_N, harmonics=harmonics, samples=samples)
+                                 force_N=force_N, harmonics=harmonics, samples=samples,
+                                 rotation=rotation, excitations_per_rev=excitations_per_rev)
     res = cyclic_frequency_response(pb, 2 * np.pi * f_start_hz, 2 * np.pi * f_end_hz,
                                     step=step, max_points=max_points, tol=tol)
     amp = probe_amplitude(wheel, res)
