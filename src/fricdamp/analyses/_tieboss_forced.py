@@ -174,22 +174,70 @@ class CyclicForcedResponseAnalysis(Section):
         return self
 
 
+def _is_solid(model) -> bool:
+    from fricdamp.analyses.tieboss_wheel_solid import is_solid
+
+    return is_solid(model)
+
+
 def _check_forced(model, spec) -> None:
-    _check_nd(_model(model, "[analysis.cyclic_forced_response]"), "pairs",
-              [nd for _, nd in spec.pairs])
+    obj = model if _is_solid(model) else _model(model, "[analysis.cyclic_forced_response]")
+    _check_nd(obj, "pairs", [nd for _, nd in spec.pairs])
+
+
+def _solid_forced_entry(model, o: int, nd: int, spec) -> dict:
+    """The ``forced_response`` entry of a solid wheel (same keys as the beam wheel's):
+    cyclic HB on the reduced solid sector with every node pair of its contact patch,
+    speed-locked with the solid's own stress stiffening and spin softening
+    (:mod:`fricdamp.models.solid_forced`)."""
+    from fricdamp.analyses.tieboss_wheel_solid import rotation
+    from fricdamp.models.solid_forced import solid_forced_response
+
+    E = float(spec.pulses) * int(o)
+    off, _ = model.offset()
+    lo, hi = spec.frequency_range_hz
+    r = solid_forced_response(model.wheel(), nd, lo, hi, force_N=spec.force_N,
+                              settings=model.settings, offset=off,
+                              harmonics=spec.harmonics, samples=spec.samples, step=0.01,
+                              rotation=rotation(model), excitations_per_rev=E)
+    res = r.response
+    i = int(np.argmax(r.amplitude_m))
+    rpm = 60.0 * r.frequency_hz / E
+    return {
+        "nd": int(nd), "order": int(o), "pulses": int(spec.pulses),
+        "force_N": float(spec.force_N), "rpm": rpm.tolist(),
+        "frequency_hz": r.frequency_hz.tolist(), "amplitude_m": r.amplitude_m.tolist(),
+        "dissipated_energy_J": r.dissipated_energy_J.tolist(),
+        "energy_balance_error": r.energy_balance_error if res.n_points else None,
+        "peak_rpm": float(rpm[i]), "peak_frequency_hz": float(r.frequency_hz[i]),
+        "peak_amplitude_m": float(r.amplitude_m[i]),
+        "damping_ratio_at_peak": float(r.damping_ratio[i]), "tip_ratio": None,
+        "n_points": res.n_points, "status": res.status, "message": res.message,
+        "n_modes": None, "harmonics": res.harmonics, "samples": res.samples,
+        "time_per_point_s": r.cpu_s_per_point, "runtime_s": res.runtime_s,
+        "hb_unknowns": r.unknowns, "contact_pairs_per_tieboss": model.wheel().n_pairs,
+    }
 
 
 def run_cyclic_forced_response(model, spec: CyclicForcedResponseAnalysis,
                                ctx: RunContext) -> AnalysisOutput:
     from fricdamp.models.tieboss_forced import forced_response_by_nd
 
-    obj = _model(model, "[analysis.cyclic_forced_response]")
+    solid = _is_solid(model)
+    obj = model if solid else _model(model, "[analysis.cyclic_forced_response]")
     entries, notes = [], []
+    if solid and spec.n_modes != 4:
+        notes.append("[analysis.cyclic_forced_response] n_modes is not used by the solid "
+                     "wheel (its reduction is set in [model])")
     for o, nd in spec.pairs:
-        e = forced_response_by_nd(obj.sector, nd, o, pulses=spec.pulses, force_N=spec.force_N,
-                                  frequency_range_hz=tuple(spec.frequency_range_hz),
-                                  n_modes=spec.n_modes, harmonics=spec.harmonics,
-                                  samples=spec.samples)
+        if solid:
+            e = _solid_forced_entry(obj, o, nd, spec)
+        else:
+            e = forced_response_by_nd(obj.sector, nd, o, pulses=spec.pulses,
+                                      force_N=spec.force_N,
+                                      frequency_range_hz=tuple(spec.frequency_range_hz),
+                                      n_modes=spec.n_modes, harmonics=spec.harmonics,
+                                      samples=spec.samples)
         entries.append(e)
         if e["status"] != 0:
             notes.append(f"{nd}ND (o = {o}): the continuation stopped early: {e['message']}")

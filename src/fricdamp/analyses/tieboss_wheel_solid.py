@@ -60,8 +60,9 @@ __all__ = ["CyclicSectorSpec", "MistuningAnalysis", "PenaltyConvergenceAnalysis"
            "run_solid_free_attenuation", "run_solid_modal"]
 
 MODEL_TYPES = ("tieboss_wheel_solid", "cyclic_sector")
-_ANALYSES = ("[analysis.modal], [analysis.free_attenuation] and "
-             "[analysis.penalty_convergence]")
+_ANALYSES = ("[analysis.modal], [analysis.campbell_by_nd], [analysis.free_attenuation], "
+             "[analysis.penalty_convergence], [analysis.mistuning] and "
+             "[analysis.cyclic_forced_response]")
 STATE_COLORS = ("#d9d9d9", "#1f77b4", "#d62728")
 
 
