@@ -43,8 +43,8 @@ def _model(model, table: str):
     from fricdamp.analyses.tieboss_wheel import TiebossWheelCaseModel
 
     if not isinstance(model, TiebossWheelCaseModel):
-        raise CaseError(f"{table} needs [model] type = 'tieboss_wheel' (the beam wheel; the "
-                        "solid wheel's forced response is not implemented yet)")
+        raise CaseError(f"{table} needs [model] type = 'tieboss_wheel' (the beam wheel; of "
+                        "these the solid wheel has [analysis.cyclic_forced_response])")
     return model
 
 
