@@ -168,7 +168,7 @@ def paper002_joint(*, n_cells=(14, 9), n_heights: int = 24, **overrides):
     :meth:`fricdamp.contact.rough.RoughRotationalJoint.paper_002` with 14 x 9 cells instead
     of 28 x 18 for time simulations of the rig (each time step steps every summit class):
     its loop energy is within 1.2 % of the full grid's from 1e-7 to 0.1 rad and within
-    0.3 % above 1e-5 rad (tests/unit/test_rotational_joint.py). Fewer height classes are
+    0.4 % above 1e-5 rad (tests/unit/test_rotational_joint.py). Fewer height classes are
     not advisable: 12 classes are 40 % off below 1e-6 rad.
     """
     from fricdamp.contact.rough import RoughRotationalJoint
