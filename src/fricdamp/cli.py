@@ -1,6 +1,6 @@
 """Command line: ``fricdamp run CASE.toml``, ``fricdamp check CASE.toml``, ``fricdamp demo``.
 
-Exit codes (the same for every command, docs/cases.md):
+Exit codes (the same for every command; the "Case files" page of the documentation):
 
 * 0 -- ok: every analysis finished and its error estimates are within their limits;
 * 1 -- failed: a solver did not finish what was asked (an FRF that stopped short of its
@@ -47,11 +47,27 @@ def _progress_wanted(disabled: bool) -> bool:
         return False
 
 
+_EPILOG = """\
+Case files are documented key by key on the "Case files" page of the fricdamp documentation
+(source: docs/cases.md of the source tree; build the site with `mkdocs build`). An annotated
+case ships with the package: {demo}
+`fricdamp check CASE.toml` names any key it rejects and what is allowed.
+Also: python -m fricdamp ..."""
+
+
+def _demo_case_path() -> str:
+    """Path of the built-in annotated case (``fricdamp demo``) inside the installed package."""
+    from importlib import resources
+
+    return str(resources.files("fricdamp") / "data" / "demo.toml")
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="fricdamp",
         description="Dry-friction damping of blades and joints: run TOML case files.",
-        epilog="Case files are documented key by key in docs/cases.md.")
+        epilog=_EPILOG.format(demo=_demo_case_path()),
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action="version", version=f"fricdamp {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
 
