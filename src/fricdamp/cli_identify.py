@@ -35,6 +35,18 @@ The rig file (TOML, unknown keys rejected)::
     C = "acc_C"
     # unit = "g"                   optional: unit of the three channels (overrides the file)
     # sensitivity_mV_per_g = {A = 10.35, B = 10.79, C = 10.29}   voltage channels (mV or V)
+    # force = "force"              optional: the shaker's force column (needs [shaker])
+    # force_unit = "N"             N, kN, mN, lbf, kgf, or mV/V with force_sensitivity_mV_per_N
+    # force_sensitivity_mV_per_N = 100.0
+
+    [shaker]                       # optional: beam 1 and its suspension; with a force column
+    beam1_mass_kg = 0.4396         # m1 (with its sensors' mass in I1 below)
+    shaker_arm_m = -0.100          # d_F: D on beam 1, from G1 towards the joint
+    # beam1_inertia_kg_m2 = 1.55e-3     optional: overrides I1 = m1 l1^2/12 + m_c (d1^2 + d2^2)
+    # suspension_stiffness_N_per_m = 0.0            k_x (the rig's known suspension of G1)
+    # suspension_damping_N_s_per_m = 0.0            c_x
+    # suspension_torsional_stiffness_N_m_per_rad = 0.0   k_t
+    # suspension_torsional_damping_N_m_s_per_rad = 0.0   c_t
 
     [input]                        # optional: how to read a CSV (command-line options override)
     # sample_rate_hz = 5120.0      time = k / rate (files with a sample index or no time)
@@ -66,10 +78,13 @@ The rig file (TOML, unknown keys rejected)::
     # block_periods = 3
     # min_blocks = 5
     # min_conditioning = 0.01      warn when joint/beam rotation is below this
+    # max_torque_discrepancy = 0.02  with a force channel: torque from the force vs 002 (8)
+    # max_energy_imbalance = 0.02    ... and |W_in - E_rig - E_d| / W_in
 
 Exit codes: 0 success; 3 identified but **unreliable** (the outputs are written; the
 warnings say why: 95 % interval of the energy wider than the limit or including zero,
-block scatter above the limit, negative loop); 2 invalid input (one line on stderr naming
+block scatter above the limit, negative loop, with a force channel the two torques or the
+energy balance disagreeing beyond their limits); 2 invalid input (one line on stderr naming
 the key or file and what is allowed); 1 internal error.
 """
 
@@ -87,7 +102,8 @@ from fricdamp.case import Section, validate_section
 from fricdamp.errors import CaseError, ModelError
 
 __all__ = ["ChannelsSection", "InputSection", "ProcessingSection", "RigFile", "RigSection",
-           "TrustSection", "add_subparsers", "handle_identify", "load_rig_file", "main"]
+           "ShakerSection", "TrustSection", "add_subparsers", "driven_beam", "handle_identify",
+           "load_rig_file", "main"]
 
 EXIT_OK, EXIT_FAILURE, EXIT_INVALID, EXIT_UNRELIABLE = 0, 1, 2, 3
 
@@ -126,6 +142,21 @@ class ChannelsSection(Section):
     C: str = "C"
     unit: str | None = None
     sensitivity_mV_per_g: SensitivitySection | None = None
+    force: str | None = None
+    force_unit: str | None = None
+    force_sensitivity_mV_per_N: Positive | None = None
+
+
+class ShakerSection(Section):
+    """``[shaker]``: beam 1, the shaker's position and the suspension (force channel)."""
+
+    beam1_mass_kg: Positive
+    shaker_arm_m: float
+    beam1_inertia_kg_m2: Positive | None = None
+    suspension_stiffness_N_per_m: NonNegative = 0.0
+    suspension_damping_N_s_per_m: NonNegative = 0.0
+    suspension_torsional_stiffness_N_m_per_rad: NonNegative = 0.0
+    suspension_torsional_damping_N_m_s_per_rad: NonNegative = 0.0
 
 
 class InputSection(Section):
@@ -165,6 +196,8 @@ class TrustSection(Section):
     block_periods: Annotated[int, Field(ge=1)] | None = None
     min_blocks: Annotated[int, Field(ge=2)] | None = None
     min_conditioning: NonNegative | None = None
+    max_torque_discrepancy: Positive | None = None
+    max_energy_imbalance: Positive | None = None
 
     def objects(self):
         """``(MeasurementUncertainty, TrustThresholds)`` with the keys given."""
@@ -174,17 +207,19 @@ class TrustSection(Section):
         unc = {k: given[k] for k in ("position_std_m", "sensitivity_std", "delay_std_s",
                                      "noise", "samples", "seed") if k in given}
         thr = {k: given[k] for k in ("max_relative_width", "max_block_scatter",
-                                     "block_periods", "min_blocks", "min_conditioning")
+                                     "block_periods", "min_blocks", "min_conditioning",
+                                     "max_torque_discrepancy", "max_energy_imbalance")
                if k in given}
         return MeasurementUncertainty(**unc), TrustThresholds(**thr)
 
 
 class RigFile(Section):
-    """A rig file: ``[rig]``, optional ``[channels]``, ``[input]``, ``[processing]``,
-    ``[trust]``."""
+    """A rig file: ``[rig]``, optional ``[channels]``, ``[shaker]``, ``[input]``,
+    ``[processing]``, ``[trust]``."""
 
     rig: RigSection
     channels: ChannelsSection = ChannelsSection()
+    shaker: ShakerSection | None = None
     input: InputSection = InputSection()
     processing: ProcessingSection = ProcessingSection()
     trust: TrustSection = TrustSection()
@@ -234,7 +269,39 @@ def load_rig_file(path):
             beam2_inertia=inertia, gravity=r.gravity_m_per_s2)
     except ModelError as exc:
         raise CaseError(f"{p.name}: [rig] {exc}") from None
+    if spec.channels.force is not None and spec.shaker is None:
+        raise CaseError(f"{p.name}: [channels] force = {spec.channels.force!r} needs a "
+                        "[shaker] table (beam1_mass_kg, shaker_arm_m, suspension) for the "
+                        "torque from the force and the energy balance")
+    try:
+        driven_beam(spec)
+    except ModelError as exc:
+        raise CaseError(f"{p.name}: [shaker] {exc}") from None
+    except CaseError as exc:
+        raise CaseError(f"{p.name}: {exc}") from None
     return spec, geom
+
+
+def driven_beam(spec):
+    """The :class:`~fricdamp.analysis.identify.DrivenBeam` of a rig file's ``[shaker]``
+    (None without one); I1 defaults to ``m1 l1^2/12 + m_c (d1^2 + d2^2)``, 002 (9)."""
+    from fricdamp.analysis.identify import DrivenBeam
+
+    sh, r = spec.shaker, spec.rig
+    if sh is None:
+        return None
+    if abs(sh.shaker_arm_m) > 0.5 * r.beam1_length_m:
+        raise CaseError(f"[shaker] shaker_arm_m must lie on beam 1, in "
+                        f"[{-0.5 * r.beam1_length_m:g}, {0.5 * r.beam1_length_m:g}] m, got "
+                        f"{sh.shaker_arm_m:g}")
+    inertia = sh.beam1_inertia_kg_m2
+    if inertia is None:
+        inertia = sh.beam1_mass_kg * r.beam1_length_m ** 2 / 12.0 + r.sensor_mass_kg * (
+            r.sensor_a_m ** 2 + r.sensor_b_m ** 2)  # 002 (9)
+    return DrivenBeam(sh.beam1_mass_kg, inertia, sh.shaker_arm_m,
+                      sh.suspension_stiffness_N_per_m, sh.suspension_damping_N_s_per_m,
+                      sh.suspension_torsional_stiffness_N_m_per_rad,
+                      sh.suspension_torsional_damping_N_m_s_per_rad)
 
 
 def read_signals(path, fmt: str = "auto", **csv_options):
@@ -446,9 +513,16 @@ def _identify(args, spec, geom, proc, sens, table, out: Path) -> int:
     from fricdamp.verdict import exit_code, verdict_block
 
     ch = spec.channels
+    beam = driven_beam(spec)
+    roles = {"A": ch.A, "B": ch.B, "C": ch.C}
+    if beam is not None:
+        roles["force"] = ch.force or "force"
     t0 = time.perf_counter()
-    ident = identify_from_table(table, geom, channels={"A": ch.A, "B": ch.B, "C": ch.C},
-                                units=ch.unit, sensitivity_mV_per_g=sens or None, **proc)
+    ident = identify_from_table(table, geom, channels=roles, units=ch.unit,
+                                sensitivity_mV_per_g=sens or None, driven_beam=beam,
+                                force_unit=ch.force_unit,
+                                force_sensitivity_mV_per_N=ch.force_sensitivity_mV_per_N,
+                                **proc)
     elapsed = time.perf_counter() - t0
     d = ident.to_dict()
     verdict = verdict_block({"identification": _verdict(ident, d)})
@@ -493,6 +567,12 @@ def _identify(args, spec, geom, proc, sens, table, out: Path) -> int:
         _out(f"95 % interval of the energy [{lo:.4g}, {hi:.4g}] J; block scatter "
              f"{'n/a' if bs is None else f'{bs:.3g}'}; joint/beam rotation "
              f"{d['conditioning']['joint_to_beam_rotation']:.3g}; status {ident.status}")
+    if ident.force_check is not None:
+        fb = d["energy_balance"]
+        _out(f"torque from the shaker force: {100 * ident.force_check.torque_discrepancy:.3g}"
+             f" % RMS from 002 (8); energy balance: input {fb['input_work_J']:.4g} J, rig "
+             f"{fb['rig_dissipation_J']:.4g} J, joint {fb['joint_dissipation_J']:.4g} J, "
+             f"residual {100 * fb['residual_relative_to_input']:.3g} % of the input")
     said_last = 1 if verdict["overall"] != "ok" else 0   # the verdict's reason, said last
     for w in ident.warnings[said_last:]:
         _warn(w)

@@ -98,6 +98,13 @@ class TrustThresholds:
         Blocks below which the scatter is only a warning, >= 2; default 5.
     min_conditioning : float, optional
         Joint/beam rotation ratio below which a warning is given, >= 0; default 0.01.
+    max_torque_discrepancy : float, optional
+        With a force channel: largest RMS difference of the torque from the shaker force
+        and the torque of 002 (8), relative to the torque's RMS, > 0; default 0.02
+        (:mod:`fricdamp.analysis._identify_force`).
+    max_energy_imbalance : float, optional
+        With a force channel: largest ``|W_in - E_rig - E_d|`` relative to the shaker's
+        work per cycle W_in, > 0; default 0.02.
     """
 
     max_relative_width: float = 0.2
@@ -105,9 +112,12 @@ class TrustThresholds:
     block_periods: int = 3
     min_blocks: int = 5
     min_conditioning: float = 0.01
+    max_torque_discrepancy: float = 0.02
+    max_energy_imbalance: float = 0.02
 
     def __post_init__(self):
-        for name in ("max_relative_width", "max_block_scatter"):
+        for name in ("max_relative_width", "max_block_scatter", "max_torque_discrepancy",
+                     "max_energy_imbalance"):
             object.__setattr__(self, name, float(check_positive(name, getattr(self, name))))
         object.__setattr__(self, "min_conditioning", float(check_positive(
             "min_conditioning", self.min_conditioning, allow_zero=True)))

@@ -87,6 +87,7 @@ from fricdamp.analysis._identify_core import (
     process_window,
     torque_002,
 )
+from fricdamp.analysis._identify_force import FORCE_UNITS, DrivenBeam, ForceCheck, force_check
 from fricdamp.analysis._identify_trust import (
     MeasurementUncertainty,
     TrustReport,
@@ -107,6 +108,9 @@ log = logging.getLogger(__name__)
 
 __all__ = [
     "ACCELERATION_UNITS",
+    "DrivenBeam",
+    "FORCE_UNITS",
+    "ForceCheck",
     "JointIdentification",
     "JointRigGeometry",
     "MeasurementUncertainty",
@@ -364,8 +368,12 @@ class JointIdentification:
         The diagnostics and verdict (None when ``diagnostics=False``).
     checks : tuple of str
         Findings made even without the diagnostics: a given excitation frequency that is
-        not the signals' strongest line, a negative loop area. Either makes the result
-        ``unreliable`` with ``diagnostics=False`` too.
+        not the signals' strongest line, a negative loop area, the force channel's checks.
+        Either makes the result ``unreliable`` with ``diagnostics=False`` too.
+    force_check : ForceCheck or None
+        With a force channel: the torque from the shaker force and the energy balance
+        (:mod:`fricdamp.analysis._identify_force`); their failures are among the warnings
+        and make the result ``unreliable``.
     """
 
     time: np.ndarray
@@ -392,6 +400,7 @@ class JointIdentification:
     time_snapped: bool = False
     trust: TrustReport | None = None
     checks: tuple[str, ...] = ()
+    force_check: ForceCheck | None = None
 
     @property
     def samples_per_period(self) -> float:
@@ -463,6 +472,8 @@ class JointIdentification:
         }
         if self.trust is not None:
             out.update(self.trust.to_dict())
+        if self.force_check is not None:
+            out.update(self.force_check.to_dict())
         return out
 
     def plot(self, ax=None, *, label: str | None = None, all_periods: bool = False):
@@ -497,7 +508,8 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
                    iterations: int = 3, source: str = "",
                    skip_periods: int | Literal["auto"] = "auto", diagnostics: bool = True,
                    uncertainty: MeasurementUncertainty | None = None,
-                   thresholds: TrustThresholds | None = None) -> JointIdentification:
+                   thresholds: TrustThresholds | None = None, force=None,
+                   driven_beam: DrivenBeam | None = None) -> JointIdentification:
     """Torque-rotation loop, dissipated energy and damping ratio from three accelerometers.
 
     Paper 002 Fig. 7: accelerations -> (B.1)-(B.10) -> FFT/IFFT integration -> torque (8)
@@ -565,6 +577,14 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
         Uncertainties of the measurement chain for the Monte Carlo (default: its defaults).
     thresholds : TrustThresholds, optional
         When the result is flagged unreliable (default: its defaults).
+    force : array_like, shape (n,), optional
+        The shaker force measured at D [N] (positive along X0, as the accelerations). With
+        ``driven_beam``: a second joint torque from the ``theta1`` equation of 002 (6) and
+        the energy balance of the rig (:class:`ForceCheck`); the result is unreliable when
+        they disagree beyond ``thresholds.max_torque_discrepancy`` /
+        ``max_energy_imbalance``.
+    driven_beam : DrivenBeam, optional
+        Beam 1 and its shaker and suspension; required with ``force``.
 
     Returns
     -------
@@ -599,6 +619,17 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
                                    != skip_periods or skip_periods < 0):
         raise ModelError(f"skip_periods must be 'auto' or an integer >= 0, got "
                          f"{skip_periods!r}")
+    if (force is None) != (driven_beam is None):
+        raise ModelError("force and driven_beam go together: the torque from the shaker "
+                         "force needs beam 1's mass, inertia, shaker position and suspension "
+                         "(DrivenBeam), and the force samples [N]")
+    if force is not None:
+        if not isinstance(driven_beam, DrivenBeam):
+            raise ModelError(f"driven_beam must be a DrivenBeam, got "
+                             f"{type(driven_beam).__name__}")
+        f_arr = as_finite_array("force", force, ndim=1)
+        if f_arr.size != t.size:
+            raise ModelError(f"force has {f_arr.size} samples, time has {t.size}")
     G = np.column_stack(chans)
     estimated = frequency_hz is None
     if estimated:
@@ -655,7 +686,12 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
                      f"{skip} of the record's periods); analysing them anyway")
         start, skip = 0, 0
     t_s, G_s = t[start:], G[start:]
-    tw, Gw, n_per, resampled, dtw = whole_periods(t_s, G_s, dt, frequency_hz, periods)
+    if force is not None:  # windowed (and resampled) with the accelerations
+        tw, Gfw, n_per, resampled, dtw = whole_periods(
+            t_s, np.column_stack((G_s, f_arr[start:])), dt, frequency_hz, periods)
+        Gw, f_w = Gfw[:, :3], Gfw[:, 3]
+    else:
+        tw, Gw, n_per, resampled, dtw = whole_periods(t_s, G_s, dt, frequency_hz, periods)
     del G
     options = dict(kinematics=kinematics, gravity_sensing=gravity_sensing, filter=filter,
                    n_harmonics=n_harmonics, f_low=f_low, iterations=iterations)
@@ -676,6 +712,13 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
     xi_e = e_d / (np.pi * float(first_harmonic(rotation, n_per))
                   * float(first_harmonic(torque, n_per)))
     checks = []
+    fcheck = None
+    if force is not None:
+        thr = thresholds or TrustThresholds()
+        fcheck = force_check(f_w, loop, dtw, n_per, geometry, driven_beam, filter=filter,
+                             n_harmonics=n_harmonics, f_low=f_low,
+                             max_torque_discrepancy=thr.max_torque_discrepancy,
+                             max_energy_imbalance=thr.max_energy_imbalance)
     if not diagnostics:
         # what needs no diagnostics still judges the result (a wrong frequency makes a loop
         # of the wrong period, whose area, even its sign, is meaningless)
@@ -695,17 +738,26 @@ def identify_joint(time, gamma_a, gamma_b, gamma_c, geometry: JointRigGeometry, 
         if mismatch is not None:
             trust = dataclasses.replace(trust, status="unreliable",
                                         warnings=(mismatch, *trust.warnings))
+        if fcheck is not None and (fcheck.warnings or fcheck.notes):
+            trust = dataclasses.replace(
+                trust, status="unreliable" if fcheck.warnings else trust.status,
+                warnings=(*fcheck.warnings, *trust.warnings, *fcheck.notes))
         if trust.status != "ok":  # the verdict travels with the result; callers report it
             log.info("identification unreliable: %s", "; ".join(trust.warnings))
-    elif notes:
-        log.warning("%s", "; ".join(notes))
+    else:
+        if fcheck is not None:
+            checks.extend(fcheck.warnings)
+            notes.extend(fcheck.notes)
+        if notes:
+            log.warning("%s", "; ".join(notes))
     return JointIdentification(
         time=tw, theta1=theta1, theta2=theta2, x1=x1, rotation=rotation, torque=torque,
         frequency_hz=frequency_hz, n_periods=n_per, dissipated_energy=e_d,
         cycle_energy=cycles, rotation_amplitude=th_amp, torque_amplitude=m_amp,
         damping_ratio=float(xi), kinematics=kinematics, filter=filter, resampled=resampled,
         filtered_fraction=loop.residual, source=source, damping_ratio_energy=float(xi_e),
-        skipped_periods=skip, time_snapped=snapped, trust=trust, checks=tuple(checks))
+        skipped_periods=skip, time_snapped=snapped, trust=trust, checks=tuple(checks),
+        force_check=fcheck)
 
 
 #: Largest relative distance between a given excitation frequency and the strongest line of
@@ -721,6 +773,9 @@ def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
                         channels: Mapping[str, str] | None = None,
                         units: Mapping[str, str] | str | None = None,
                         sensitivity_mV_per_g: Mapping[str, float] | None = None,
+                        driven_beam: DrivenBeam | None = None,
+                        force_unit: str | None = None,
+                        force_sensitivity_mV_per_N: float | None = None,
                         **options) -> JointIdentification:
     """Run :func:`identify_joint` on a table of signals (CSV or UFF reader output).
 
@@ -733,14 +788,23 @@ def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
     geometry : JointRigGeometry
     channels : mapping, optional
         ``{"A": name, "B": name, "C": name}``: the table columns of the three accelerometers;
-        default the columns named A, B and C.
+        default the columns named A, B and C. An optional ``"force": name`` is the shaker's
+        force channel (default the column ``force`` when ``driven_beam`` is given).
     units : str or mapping, optional
-        Unit of every channel (a string) or per role ``{"A": "g", ...}``; overrides the
-        units of the table (needed when the file has none).
+        Unit of every accelerometer channel (a string) or per role ``{"A": "g", ...}``;
+        overrides the units of the table (needed when the file has none).
     sensitivity_mV_per_g : mapping, optional
         Per role ``{"A": 10.35, ...}`` [mV/g], > 0: those channels hold the sensors'
         voltages (unit mV, V, or none = mV), turned into accelerations by
         ``a = U / S * 9.80665`` m/s^2 (paper 002 §2 gives 10.35, 10.79, 10.29 mV/g).
+    driven_beam : DrivenBeam, optional
+        Beam 1, its shaker and suspension: with a force channel, the second torque estimate
+        and the energy balance (:class:`ForceCheck`).
+    force_unit : str, optional
+        Unit of the force channel (N, kN, mN, lbf, kgf; or mV / V with
+        ``force_sensitivity_mV_per_N``); overrides the table's.
+    force_sensitivity_mV_per_N : float, optional
+        Sensitivity of the force sensor [mV/N], > 0, for a voltage force channel.
     **options
         Passed to :func:`identify_joint`.
 
@@ -748,12 +812,14 @@ def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
     ------
     ModelError
         A missing channel (listing the columns), an unknown or missing unit, a sensitivity
-        <= 0 or given for a channel already in acceleration units.
+        <= 0 or given for a channel already in acceleration units, a force channel without
+        ``driven_beam``.
     """
     channels = dict(channels or {"A": "A", "B": "B", "C": "C"})
+    force_col = channels.pop("force", None)
     if set(channels) != {"A", "B", "C"}:
-        raise ModelError(f"channels must map exactly A, B and C to column names, got "
-                         f"{sorted(channels)}")
+        raise ModelError(f"channels must map exactly A, B and C (and optionally force) to "
+                         f"column names, got {sorted(channels)}")
     sens = dict(sensitivity_mV_per_g or {})
     if not set(sens) <= {"A", "B", "C"}:
         raise ModelError(f"sensitivity_mV_per_g must map A, B or C to mV/g, got "
@@ -786,5 +852,41 @@ def identify_from_table(table: Mapping, geometry: JointRigGeometry, *,
             data.append(values * VOLTAGE_UNITS[key] / s * ACCELERATION_UNITS["g"])
         else:
             data.append(values * acceleration_scale(unit, channel=col))
+    force = None
+    if force_col is not None and driven_beam is None:
+        raise ModelError(f"a force channel ({force_col!r}) needs the driven beam (beam 1's "
+                         "mass, inertia, shaker position and suspension) for its checks")
+    if driven_beam is not None:
+        force_col = "force" if force_col is None else force_col
+        if force_col not in table:
+            cols = [c for c in table if c != "time"]
+            raise ModelError(f"force channel: no column {force_col!r} in the signals; "
+                             f"columns: {cols}")
+        unit = force_unit if force_unit is not None else table_units.get(force_col, "")
+        force = np.asarray(table[force_col], dtype=float) * force_scale(
+            unit, force_sensitivity_mV_per_N, channel=force_col)
     source = options.pop("source", "") or str(getattr(table, "path", ""))
-    return identify_joint(table["time"], *data, geometry, source=source, **options)
+    return identify_joint(table["time"], *data, geometry, source=source, force=force,
+                          driven_beam=driven_beam, **options)
+
+
+def force_scale(unit: str, sensitivity_mV_per_N: float | None = None, *,
+                channel: str = "") -> float:
+    """Factor turning the force channel's values into N.
+
+    ``unit`` is a force unit (:data:`FORCE_UNITS`), or a voltage (mV, V) with
+    ``sensitivity_mV_per_N`` [mV/N] > 0.
+    """
+    key = str(unit).strip().lower()
+    where = f"channel {channel!r}: " if channel else ""
+    if sensitivity_mV_per_N is not None:
+        s = float(check_positive("force_sensitivity_mV_per_N", sensitivity_mV_per_N,
+                                 unit="mV/N"))
+        if key not in VOLTAGE_UNITS:
+            raise ModelError(f"{where}the force is in {unit!r}, not a voltage (V, mV): a "
+                             "sensitivity [mV/N] applies to a voltage channel")
+        return VOLTAGE_UNITS[key] / s
+    if key not in FORCE_UNITS:
+        raise ModelError(f"{where}unknown or missing force unit {unit!r}; units understood: "
+                         f"{', '.join(FORCE_UNITS)} (or mV/V with a sensitivity in mV/N)")
+    return FORCE_UNITS[key]

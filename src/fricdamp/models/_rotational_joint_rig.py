@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from fricdamp.analysis.energy import loop_area
-from fricdamp.analysis.identify import JointRigGeometry
+from fricdamp.analysis.identify import DrivenBeam, JointRigGeometry
 from fricdamp.analysis.signals import SignalTable
 from fricdamp.contact.base import ContactLaw
 from fricdamp.errors import ModelError, as_finite_array, check_positive
@@ -152,6 +152,14 @@ class RigParameters:
         """What the identification needs (:class:`~fricdamp.analysis.identify.JointRigGeometry`)."""
         return JointRigGeometry(self.sensor_a, self.sensor_b, self.joint_arm1, self.sensor_c,
                                 self.joint_arm2, self.beam2_mass, self.inertia2, self.gravity)
+
+    def driven_beam(self) -> DrivenBeam:
+        """Beam 1, its shaker and suspension, for the force channel's checks
+        (:class:`~fricdamp.analysis.identify.DrivenBeam`)."""
+        return DrivenBeam(self.beam1_mass, self.inertia1, self.shaker_arm,
+                          self.suspension_stiffness, self.suspension_damping,
+                          self.suspension_torsional_stiffness,
+                          self.suspension_torsional_damping)
 
     def with_(self, **changes) -> RigParameters:
         """Copy with some parameters changed (validated again)."""
