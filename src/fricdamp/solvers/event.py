@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.results import ResultMixin
 from fricdamp.solvers.event_exact import ExactPhase, LinearConfig
 from fricdamp.solvers.event_phase import (
     EV_NORMAL,
@@ -118,8 +119,8 @@ class PhaseRecord:
     y_end: tuple
 
 
-@dataclass(frozen=True)
-class EventResult:
+@dataclass(frozen=True, repr=False)
+class EventResult(ResultMixin):
     """Stick-slip time history from :func:`simulate_events`.
 
     Samples are the requested ``t_eval`` plus every phase start (event times); at an event
@@ -150,6 +151,9 @@ class EventResult:
         Sum of |kinetic energy change| [J] of the velocity projections at stick entries.
     method : str
         ``"exact"`` or ``"dop853"``.
+    verdict : fricdamp.verdict.Verdict
+        ``failed`` when the run stopped early; else judged on the energy balance (exact up to
+        round-off for exact phases) and on negative friction dissipation.
     """
 
     t: np.ndarray
@@ -200,6 +204,22 @@ class EventResult:
         if scale == 0:
             return 0.0
         return float(np.max(np.abs(self.energy_residual)) / scale)
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        est = {}
+        ebe = self.energy_balance_error
+        if np.isfinite(ebe):
+            est["energy_balance_error"] = float(ebe)
+            e = self.energy
+            scale = max(float(np.max(np.abs(e[k]))) for k in ENERGY_KEYS)
+            diss = e["friction_dissipation"] - e["friction_dissipation"][0]
+            est["negative_dissipation"] = (max(0.0, -float(np.min(diss)) / scale)
+                                           if scale > 0 else 0.0)
+        failed = None if self.success else (
+            f"the integration stopped at t = {float(self.t[-1]):.6g} s: {self.message}")
+        return status_verdict(self.success, failed or "", est)
 
     # ----------------------------------------------------------------- export
     def to_xarray(self):
@@ -562,6 +582,9 @@ class _Run:
             pot = 0.5 * np.einsum("ti,ij,tj->t", q, self.lf.K, q)
             return kin, pot
         s = self.system
+        many = getattr(s, "mechanical_energy_many", None)  # optional vectorised hook
+        if many is not None:
+            return many(q, qd)
         kin = np.array([0.5 * v @ np.asarray(s.mass(x), float) @ v
                         for x, v in zip(q, qd, strict=True)])
         pot = np.array([s.potential_energy(x) for x in q], dtype=float)

@@ -31,7 +31,6 @@ revolution, excited in the harmonic order ``o`` of that pulse train, resonates a
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -40,10 +39,16 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.results import ResultMixin
 from fricdamp.structure.reduction import DENSE_MAX, _factor, eigenpairs
 from fricdamp.structure.system import MechanicalSystem
 
 KINDS = ("auto", "undamped", "damped")
+
+#: Modes computed by :func:`modes` when ``n_modes`` is not given (fewer if the system has
+#: fewer DOFs): the lowest ten cover the first families of a blade or a bladed sector, and
+#: cost little more than one with shift-invert.
+DEFAULT_N_MODES = 10
 
 
 def _asym(A) -> float:
@@ -83,8 +88,8 @@ def mac(a, b) -> np.ndarray:
     return out
 
 
-@dataclass(frozen=True)
-class ModalResult:
+@dataclass(frozen=True, repr=False)
+class ModalResult(ResultMixin):
     """Modes of a linear system from :func:`modes`.
 
     Attributes
@@ -121,8 +126,28 @@ class ModalResult:
 
     @property
     def omega(self) -> np.ndarray:
-        """Angular frequencies [rad/s]."""
+        """Angular frequencies [rad/s] (kept for compatibility; ``omega_rad_s``)."""
         return 2 * np.pi * self.frequencies
+
+    @property
+    def omega_rad_s(self) -> np.ndarray:
+        """Angular frequencies [rad/s], shape (n_modes,)."""
+        return 2 * np.pi * self.frequencies
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """Eigenfrequencies [Hz] (the same as ``frequencies``), shape (n_modes,)."""
+        return self.frequencies
+
+    def _judge(self):
+        """``ok`` (a linear eigensolution has no error estimate to judge), ``unreliable`` if
+        a frequency is not finite; the lowest frequency and the number of modes recorded."""
+        from fricdamp.results import status_verdict
+
+        finite = bool(np.all(np.isfinite(self.frequencies)))
+        return status_verdict(True, "", {"n_modes": self.n_modes, "lowest_frequency_hz":
+                                         float(self.frequencies[0]) if self.n_modes else None},
+                              reasons=() if finite else ("a frequency is not finite",))
 
     def mac(self, other: ModalResult | np.ndarray | None = None) -> np.ndarray:
         """MAC matrix against another result's shapes (or against itself)."""
@@ -139,26 +164,18 @@ class ModalResult:
         ds = xr.Dataset(
             {
                 "frequency": ("mode", self.frequencies, {"units": "Hz"}),
-                "modal_mass": ("mode", self.modal_masses),
+                "modal_mass": ("mode", self.modal_masses,
+                               {"units": "kg" if self.meta.get("normalize") == "max" else "1"}),
                 "damping_ratio": ("mode", self.damping_ratios, {"units": "1"}),
                 "eigenvalue_real": ("mode", self.eigenvalues.real, {"units": "rad/s"}),
                 "eigenvalue_imag": ("mode", self.eigenvalues.imag, {"units": "rad/s"}),
-                "shape_real": (("dof", "mode"), np.real(self.shapes)),
-                "shape_imag": (("dof", "mode"), np.imag(self.shapes)),
+                "shape_real": (("dof", "mode"), np.real(self.shapes), {"units": "1"}),
+                "shape_imag": (("dof", "mode"), np.imag(self.shapes), {"units": "1"}),
             },
             coords={"mode": mode, "dof": dof},
             attrs={"kind": self.kind},
         )
         return ds
-
-    def save(self, path) -> None:
-        """Save to NetCDF (``.nc``) or a NumPy archive (any other suffix)."""
-        path = os.fspath(path)
-        ds = self.to_xarray()
-        if path.endswith(".nc"):
-            ds.to_netcdf(path, engine="scipy")
-        else:
-            np.savez(path, **{k: v.values for k, v in ds.data_vars.items()})
 
     def plot(self, modes=None, ax=None):
         """Bar plot of the (real parts of the) mode shapes; returns the axes."""
@@ -279,17 +296,18 @@ def _complex_modes(M, D, K, n_modes: int, sigma_hz: float, method: str):
     return lam[order], V[:n][:, order]
 
 
-def modes(system: MechanicalSystem, n_modes: int, *, sigma: float = 0.0, kind: str = "auto",
-          speed: float | None = None, normalize: str = "mass", contacts: str = "open",
-          method: str = "auto") -> ModalResult:
+def modes(system: MechanicalSystem, n_modes: int | None = None, *, sigma: float = 0.0,
+          kind: str = "auto", speed: float | None = None, normalize: str = "mass",
+          contacts: str = "open", method: str = "auto") -> ModalResult:
     """Linear modes of ``system``.
 
     Parameters
     ----------
     system : MechanicalSystem
         Linear structure (dense or sparse matrices).
-    n_modes : int
-        Number of modes, ``1 <= n_modes <= n_dof``.
+    n_modes : int, optional
+        Number of modes, ``1 <= n_modes <= n_dof``; default ``min(10, n_dof)``
+        (:data:`DEFAULT_N_MODES`).
     sigma : float
         Frequency [Hz] around which the modes are sought (0: the lowest modes). A system
         with rigid-body modes is handled (the shift is nudged so K - sigma M factorises).
@@ -327,6 +345,8 @@ def modes(system: MechanicalSystem, n_modes: int, *, sigma: float = 0.0, kind: s
     if not isinstance(system, MechanicalSystem):
         raise ModelError(f"system must be a MechanicalSystem, got {type(system).__name__}")
     n = system.n_dof
+    if n_modes is None:
+        n_modes = min(DEFAULT_N_MODES, n)
     n_modes = _check_int("n_modes", n_modes, 1, n)
     if not np.isfinite(sigma) or sigma < 0:
         raise ModelError(f"sigma must be a frequency >= 0 Hz, got {sigma!r}")
@@ -371,7 +391,7 @@ def modes(system: MechanicalSystem, n_modes: int, *, sigma: float = 0.0, kind: s
             zeta = np.where(absl > 0, -lam.real / np.where(absl > 0, absl, 1.0), 0.0)
     return ModalResult(frequencies=freqs, shapes=X, modal_masses=mm, eigenvalues=eig,
                        damping_ratios=zeta, kind=kind, dof_names=system.names,
-                       meta={"sigma_hz": sigma, "spin_speed_rad_s":
+                       meta={"sigma_hz": sigma, "normalize": normalize, "spin_speed_rad_s":
                              system.meta.get("spin_speed_rad_s")})
 
 
@@ -410,8 +430,8 @@ class Crossing:
         return self.speed_rad_s * 30.0 / np.pi
 
 
-@dataclass(frozen=True)
-class CampbellResult:
+@dataclass(frozen=True, repr=False)
+class CampbellResult(ResultMixin):
     """Modes of a rotating system across spin speeds, tracked by MAC.
 
     Attributes
@@ -440,6 +460,19 @@ class CampbellResult:
     def rpm(self) -> np.ndarray:
         """Spin speeds [rpm]."""
         return self.speeds * 30.0 / np.pi
+
+    @property
+    def speeds_rad_s(self) -> np.ndarray:
+        """Spin speeds [rad/s] (the same as ``speeds``)."""
+        return self.speeds
+
+    def _judge(self):
+        """``ok``; the lowest tracking MAC is recorded (low values flag an ambiguous
+        assignment, e.g. a double mode splitting: refine the speed grid there)."""
+        from fricdamp.results import status_verdict
+
+        mac_min = float(np.min(self.tracking_mac)) if self.tracking_mac.size else None
+        return status_verdict(True, "", {"min_tracking_mac": mac_min})
 
     def crossings(self, orders, pulses: int = 1) -> list[Crossing]:
         """Crossings of the branches with excitation lines ``f = pulses * o * Omega / 2 pi``.
@@ -477,21 +510,11 @@ class CampbellResult:
             {
                 "frequency": (("speed", "mode"), self.frequencies, {"units": "Hz"}),
                 "damping_ratio": (("speed", "mode"), self.damping_ratios, {"units": "1"}),
-                "tracking_mac": (("speed", "mode"), self.tracking_mac),
+                "tracking_mac": (("speed", "mode"), self.tracking_mac, {"units": "1"}),
                 "rpm": ("speed", self.rpm, {"units": "rpm"}),
             },
             coords={"speed": ("speed", self.speeds, {"units": "rad/s"}), "mode": mode},
         )
-
-    def save(self, path) -> None:
-        """Save to NetCDF (``.nc``) or a NumPy archive (any other suffix)."""
-        path = os.fspath(path)
-        ds = self.to_xarray()
-        if path.endswith(".nc"):
-            ds.to_netcdf(path, engine="scipy")
-        else:
-            np.savez(path, speed=self.speeds,
-                     **{k: v.values for k, v in ds.data_vars.items()})
 
     def plot(self, orders=(), pulses: int = 1, ax=None):
         """Campbell diagram (frequency vs rpm) with excitation lines; returns the axes."""

@@ -42,6 +42,7 @@ import scipy.sparse.linalg as spla
 
 from fricdamp.errors import ConvergenceError, ModelError
 from fricdamp.limits import check_time_memory
+from fricdamp.results import ResultMixin
 from fricdamp.solvers.newmark import STRATEGIES, NewmarkScheme
 from fricdamp.structure.system import MechanicalSystem
 
@@ -120,8 +121,8 @@ class EnergyBalance:
         return energy_balance_error(self.energy)
 
 
-@dataclass(frozen=True)
-class TimeResult(EnergyBalance):
+@dataclass(frozen=True, repr=False)
+class TimeResult(ResultMixin, EnergyBalance):
     """Time history of a MechanicalSystem from :func:`simulate`.
 
     Attributes
