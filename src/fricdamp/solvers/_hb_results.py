@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from fricdamp.results import ResultMixin
 from fricdamp.solvers._hb_formulations import _Setup
 from fricdamp.solvers.aft import _synthesis, aft, cycle_work
 
@@ -150,14 +151,15 @@ def _balance_error(W_in, W_out, E_ref):
     return np.abs(W_in - W_out) / np.maximum(den, 1e-300)
 
 
-@dataclass(frozen=True, eq=False)
-class SteadyState:
+@dataclass(frozen=True, eq=False, repr=False)
+class SteadyState(ResultMixin):
     """One periodic steady state from :func:`harmonic_balance`.
 
     Attributes
     ----------
     omega : float
-        Excitation (fundamental) angular frequency [rad/s].
+        Excitation (fundamental) angular frequency [rad/s]; the same as ``omega_rad_s``
+        (``frequency_hz`` in Hz). The name ``omega`` is kept for compatibility.
     coefficients : ndarray, shape (n_dof, 2H+1)
         Real harmonic coefficients ``[c0, a1, b1, ..., aH, bH]`` of every DOF [m].
     amplitude : ndarray, shape (n_dof,)
@@ -217,11 +219,63 @@ class SteadyState:
             object.__setattr__(self, "_verdict", cached)
         return cached
 
+    @property
+    def frequency_hz(self) -> float:
+        """Excitation frequency [Hz]."""
+        return float(self.omega) / (2 * np.pi)
+
+    @property
+    def omega_rad_s(self) -> float:
+        """Excitation angular frequency [rad/s] (the same as ``omega``)."""
+        return float(self.omega)
+
     def time_history(self, n_samples: int = 256) -> tuple[np.ndarray, np.ndarray]:
         """One period: times t [s] shape (n_samples,) and q(t) shape (n_samples, n_dof)."""
         S = _fine_synthesis(self.harmonics, int(n_samples))
         t = 2 * np.pi * np.arange(n_samples) / n_samples / self.omega
         return t, S @ self.coefficients.T
+
+    def to_xarray(self):
+        """``xarray.Dataset``: harmonic coefficients and one period of every DOF, contact
+        harmonics and the energies per cycle; ``frequency_hz`` in the attributes."""
+        import xarray as xr
+
+        H = self.harmonics
+        coef = ["c0"] + [f"{ab}{k}" for k in range(1, H + 1) for ab in ("a", "b")]
+        dofs = list(self.dof_names) or [f"q{i + 1}" for i in range(self.coefficients.shape[0])]
+        t, q = self.time_history()
+        return xr.Dataset(
+            {"coefficients": (("dof", "coefficient"), self.coefficients, {"units": "m"}),
+             "amplitude": (("dof",), self.amplitude, {"units": "m"}),
+             "q": (("time", "dof"), q, {"units": "m", "long_name": "displacement"}),
+             "contact_displacement": (("row", "coefficient"), self.contact_displacement,
+                                      {"units": "m"}),
+             "contact_force": (("row", "coefficient"), self.contact_force, {"units": "N"}),
+             "dissipated_energy": (("contact",), np.atleast_1d(self.dissipated_energy),
+                                   {"units": "J", "long_name": "per cycle"})},
+            coords={"time": ("time", t, {"units": "s"}), "dof": dofs, "coefficient": coef},
+            attrs={"frequency_hz": self.frequency_hz, "omega_rad_s": self.omega_rad_s,
+                   "external_work_J": float(self.external_work),
+                   "viscous_dissipation_J": float(self.viscous_dissipation),
+                   "energy_balance_error": float(self.energy_balance_error),
+                   "harmonics": H, "samples": self.samples, "status": self.status,
+                   "message": self.message, "method": self.method})
+
+    def plot(self, dofs=None, ax=None):
+        """One period of the chosen DOFs (indices, default all); returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 3.5))
+        t, q = self.time_history()
+        names = list(self.dof_names) or [f"q{i + 1}" for i in range(q.shape[1])]
+        for i in (range(q.shape[1]) if dofs is None else dofs):
+            ax.plot(1e3 * t, q[:, i], lw=1, label=names[i])
+        ax.set_xlabel("time over one period [ms]")
+        ax.set_ylabel("displacement [m]")
+        ax.set_title(f"steady state at {self.frequency_hz:.4g} Hz", fontsize="small")
+        ax.legend(loc="upper right", fontsize="small")
+        return ax
 
 
 @dataclass(frozen=True, eq=False)
@@ -273,14 +327,15 @@ class Bifurcation:
                 "located": bool(self.located)}
 
 
-@dataclass(frozen=True, eq=False)
-class FrequencyResponse:
+@dataclass(frozen=True, eq=False, repr=False)
+class FrequencyResponse(ResultMixin):
     """Frequency response curve from :func:`frequency_response` (converged points only).
 
     Attributes
     ----------
     omega : ndarray, shape (n_points,)
-        Excitation angular frequency [rad/s] along the path (not monotone past folds).
+        Excitation angular frequency [rad/s] along the path (not monotone past folds). Kept
+        for compatibility: prefer ``frequency_hz`` [Hz] or ``omega_rad_s`` [rad/s].
     coefficients : ndarray, shape (n_points, n_dof, 2H+1)
         Harmonic coefficients of the DOFs [m] (see :mod:`fricdamp.solvers.aft`).
     amplitude : ndarray, shape (n_points, n_dof)
@@ -366,6 +421,22 @@ class FrequencyResponse:
     @property
     def n_points(self) -> int:
         return int(self.omega.size)
+
+    @property
+    def frequency_hz(self) -> np.ndarray:
+        """Excitation frequency [Hz] along the path, shape (n_points,)."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def omega_rad_s(self) -> np.ndarray:
+        """Excitation angular frequency [rad/s] (the same as ``omega``), shape (n_points,)."""
+        return self.omega
+
+    def peak_hz(self, dof: int = 0, *, refine: bool = True) -> tuple[float, float]:
+        """(frequency [Hz], amplitude [m]) of the largest response of ``dof`` (see
+        :meth:`peak`)."""
+        w, a = self.peak(dof, refine=refine)
+        return w / (2 * np.pi), a
 
     @property
     def peak_truncated(self) -> bool:
@@ -454,12 +525,15 @@ class FrequencyResponse:
                                       {"units": "J"}),
                 "external_work": (("point",), self.external_work, {"units": "J"}),
                 "viscous_dissipation": (("point",), self.viscous_dissipation, {"units": "J"}),
-                "energy_balance_error": (("point",), self.energy_balance_error),
+                "energy_balance_error": (("point",), self.energy_balance_error,
+                                         {"units": "1"}),
                 "iterations": (("point",), self.iterations),
                 "load_scale": (("point",), np.ones(self.omega.size) if self.load_scale is None
-                               else self.load_scale),
+                               else self.load_scale, {"units": "1"}),
             },
             coords={"omega": (("point",), self.omega, {"units": "rad/s"}),
+                    "frequency": (("point",), self.frequency_hz,
+                                  {"units": "Hz", "long_name": "excitation frequency"}),
                     "dof": dofs, "coefficient": coef, "contact": contacts},
             attrs={"harmonics": H, "samples": self.samples, "status": self.status,
                    "message": self.message, "method": self.method},

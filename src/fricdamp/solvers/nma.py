@@ -39,6 +39,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.results import ResultMixin
 from fricdamp.solvers.continuation import blas_threads, newton
 from fricdamp.solvers.hb import _balance_error, _dense, _Full, _postprocess, _Setup
 from fricdamp.structure.system import MechanicalSystem
@@ -48,8 +49,8 @@ __all__ = ["NonlinearModes", "nonlinear_modes"]
 logger = logging.getLogger(__name__)
 
 
-@dataclass(frozen=True, eq=False)
-class NonlinearModes:
+@dataclass(frozen=True, eq=False, repr=False)
+class NonlinearModes(ResultMixin):
     """Amplitude-dependent frequency and damping of one nonlinear mode.
 
     Attributes
@@ -58,7 +59,8 @@ class NonlinearModes:
         Requested amplitudes that converged: modal amplitude a [sqrt(kg) m] (mass
         normalised fundamental), or the fundamental amplitude of ``amplitude_dof`` [m].
     frequency : ndarray, shape (n_points,)
-        Nonlinear natural angular frequency omega [rad/s].
+        Nonlinear natural angular frequency omega [rad/s]. Kept for compatibility (its
+        name does not say rad/s): prefer ``frequency_hz`` [Hz] or ``frequency_rad_s``.
     damping_ratio : ndarray, shape (n_points,)
         Modal damping ratio ``xi / (2 omega)`` [-] (viscous + friction).
     coefficients : ndarray, shape (n_points, n_dof, 2H+1)
@@ -72,7 +74,8 @@ class NonlinearModes:
     energy_balance_error : ndarray, shape (n_points,)
         ``|W_xi - W_visc - sum W_contact| / W_xi`` (W_xi: work of the negative damping).
     linear_frequency : float
-        Frequency of the mode linearised at the virgin contact state [rad/s].
+        Frequency of the mode linearised at the virgin contact state [rad/s] (kept for
+        compatibility: ``linear_frequency_hz`` [Hz], ``linear_frequency_rad_s``).
     linear_damping_ratio : float
         Its viscous modal damping ratio [-].
     mode : int
@@ -81,6 +84,9 @@ class NonlinearModes:
         0 all amplitudes converged; 2 stalled (the converged ones are returned); -1 none.
     message : str
     harmonics, samples : int
+    dof_names, contact_names : tuple of str
+    amplitude_dof : int or None
+        The DOF whose fundamental amplitude is ``amplitude`` [m]; None: modal amplitude.
     """
 
     amplitude: np.ndarray
@@ -100,6 +106,7 @@ class NonlinearModes:
     samples: int
     dof_names: tuple[str, ...] = ()
     contact_names: tuple[str, ...] = ()
+    amplitude_dof: int | None = None
 
     @property
     def success(self) -> bool:
@@ -110,38 +117,85 @@ class NonlinearModes:
         """Nonlinear natural frequency [Hz], shape (n_points,)."""
         return self.frequency / (2 * np.pi)
 
+    @property
+    def frequency_rad_s(self) -> np.ndarray:
+        """Nonlinear natural angular frequency [rad/s] (the same as ``frequency``)."""
+        return self.frequency
+
+    @property
+    def linear_frequency_hz(self) -> float:
+        """Frequency of the linearised (stuck) mode [Hz]."""
+        return float(self.linear_frequency) / (2 * np.pi)
+
+    @property
+    def linear_frequency_rad_s(self) -> float:
+        """Angular frequency of the linearised (stuck) mode [rad/s]."""
+        return float(self.linear_frequency)
+
+    def _judge(self):
+        """``failed`` when no amplitude converged; ``unreliable`` when the continuation
+        stalled before the last amplitude (status 2) or the energy balance of a point exceeds
+        its limit."""
+        from fricdamp.results import status_verdict
+
+        est = {}
+        if self.energy_balance_error.size and np.any(np.isfinite(self.energy_balance_error)):
+            est["energy_balance_error"] = float(np.nanmax(self.energy_balance_error))
+        reasons = ()
+        if self.status == 2:
+            reasons = (f"only {self.amplitude.size} amplitudes converged ({self.message}): "
+                       "use smaller amplitude steps or more harmonics",)
+        return status_verdict(self.status != -1 and self.amplitude.size > 0, self.message, est,
+                              reasons=reasons)
+
     def to_xarray(self):
-        """``xarray.Dataset`` over the amplitude dimension."""
+        """``xarray.Dataset`` over the amplitude dimension (``frequency_hz`` [Hz]; the
+        historical ``frequency`` variable is in rad/s, as its units attribute says)."""
         import xarray as xr
 
         dofs = list(self.dof_names) or [f"q{i + 1}" for i in range(self.coefficients.shape[1])]
+        contacts = list(self.contact_names) or [
+            f"c{i}" for i in range(self.dissipated_energy.shape[1])]
+        amp_units = "m" if self.amplitude_dof is not None else "sqrt(kg) m"
         return xr.Dataset(
             {
+                "frequency_hz": (("amplitude",), self.frequency_hz, {"units": "Hz"}),
                 "frequency": (("amplitude",), self.frequency, {"units": "rad/s"}),
-                "damping_ratio": (("amplitude",), self.damping_ratio),
+                "damping_ratio": (("amplitude",), self.damping_ratio, {"units": "1"}),
                 "dof_amplitude": (("amplitude", "dof"), self.dof_amplitude, {"units": "m"}),
                 "dissipated_energy": (("amplitude", "contact"), self.dissipated_energy,
                                       {"units": "J"}),
-                "energy_balance_error": (("amplitude",), self.energy_balance_error),
+                "viscous_dissipation": (("amplitude",), self.viscous_dissipation,
+                                        {"units": "J"}),
+                "energy_balance_error": (("amplitude",), self.energy_balance_error,
+                                         {"units": "1"}),
             },
-            coords={"amplitude": self.amplitude, "dof": dofs,
-                    "contact": list(self.contact_names)},
+            coords={"amplitude": ("amplitude", self.amplitude, {"units": amp_units}),
+                    "dof": dofs, "contact": contacts},
             attrs={"mode": self.mode, "linear_frequency": self.linear_frequency,
+                   "linear_frequency_hz": self.linear_frequency_hz,
                    "linear_damping_ratio": self.linear_damping_ratio, "status": self.status,
                    "message": self.message, "harmonics": self.harmonics},
         )
 
     def plot(self, axes=None):
-        """Frequency [Hz] and damping ratio vs amplitude (log x); returns the two axes."""
+        """Frequency [Hz] and damping ratio [%] vs amplitude (log x, so that the micro-slip
+        range shows); returns the two axes."""
         import matplotlib.pyplot as plt
 
         if axes is None:
-            _, axes = plt.subplots(2, 1, sharex=True)
-        axes[0].semilogx(self.amplitude, self.frequency_hz, "o-")
+            _, axes = plt.subplots(2, 1, sharex=True, figsize=(6, 5))
+        axes[0].semilogx(self.amplitude, self.frequency_hz, "o-", ms=3)
+        axes[0].axhline(self.linear_frequency_hz, color="0.6", lw=0.8, ls=":",
+                        label="linear, stuck")
         axes[0].set_ylabel("frequency [Hz]")
-        axes[1].semilogx(self.amplitude, self.damping_ratio, "o-")
-        axes[1].set_ylabel("damping ratio [-]")
-        axes[1].set_xlabel("amplitude")
+        axes[0].legend(fontsize="small")
+        axes[1].semilogx(self.amplitude, 100 * self.damping_ratio, "o-", ms=3)
+        axes[1].set_ylabel("damping ratio [%]")
+        axes[1].set_xlabel("modal amplitude [sqrt(kg) m]" if
+                           self.amplitude_dof is None else "amplitude [m]")
+        for ax in axes:
+            ax.grid(alpha=0.3, which="both")
         return axes
 
 
@@ -331,7 +385,8 @@ def nonlinear_modes(system: MechanicalSystem, mode: int, amplitudes, *, harmonic
         msg = f"no nonlinear mode found at the first amplitude: {msg}"
     result = NonlinearModes(A, om, xi / (2 * om) if k else np.zeros(0), X, amp_dof, Wc,
                             W_visc, err, w0, c0 / (2 * w0), int(mode), out_status, msg, s.H,
-                            s.basis.samples, system.names, s.contact_names)
+                            s.basis.samples, system.names, s.contact_names,
+                            None if amplitude_dof is None else int(amplitude_dof))
     if throw and not result.success:
         raise ConvergenceError(msg)
     return result
