@@ -12,7 +12,7 @@ dissipated per cycle is ``W = 4 F_s (A - F_s / k_t)`` (tests/validation/test_jen
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from fricdamp._numba_cache import njit
 
 from fricdamp.contact.base import (
     ContactLaw,

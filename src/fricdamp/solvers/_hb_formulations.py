@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-from numba import njit
+from fricdamp._numba_cache import njit
 
 from fricdamp.errors import ModelError
 from fricdamp.solvers.aft import HarmonicBasis, aft, element_rows

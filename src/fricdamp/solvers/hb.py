@@ -55,7 +55,9 @@ import time
 
 import numpy as np
 
+from fricdamp import _numba_cache
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.solvers import _hb_results
 from fricdamp.solvers._hb_formulations import (
     DENSE_LIMIT,  # noqa: F401 - re-exported
     _choose,
@@ -79,6 +81,10 @@ from fricdamp.solvers._hb_results import (
 )
 from fricdamp.solvers.continuation import blas_threads, newton, solve_and_continue
 from fricdamp.structure.system import HarmonicLoad, MechanicalSystem
+
+# the curve's post-processing kernel loads its numba cache without the registry refresh
+# (fricdamp._numba_cache), like the kernels of the residual and the block LU
+_numba_cache.fast_load(getattr(_hb_results, "_peak_kernel", None))
 
 __all__ = [
     "Bifurcation",
