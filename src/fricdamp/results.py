@@ -184,6 +184,13 @@ class ResultMixin:
             arr = np.asarray(ebe, dtype=float)
             if arr.size and np.any(np.isfinite(arr)):
                 est["energy_balance_error"] = float(np.nanmax(arr))
+        energy = getattr(self, "energy", None)
+        if isinstance(energy, Mapping) and {"kinetic", "strain", "contact_stored",
+                                            "contact_dissipation", "viscous_dissipation",
+                                            "input_work"} <= set(energy):
+            from fricdamp.verdict import _dissipation_estimate
+
+            est["negative_dissipation"] = _dissipation_estimate(energy)
         return status_verdict(success, message, est)
 
     def __repr__(self) -> str:

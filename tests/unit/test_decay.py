@@ -247,7 +247,12 @@ def test_result_to_dict_is_json_and_plot():
     assert d["viscous"]["damping_ratio"] == pytest.approx(0.01, abs=1e-8)
     assert len(d["envelope"]["time"]) == res.envelope.time.size
     ax = res.plot()
-    assert len(ax.lines) == 2
+    # intervals, record mean (the printed number) and fit, all in %
+    assert len(ax.lines) == 3
+    mean_line = ax.lines[1]
+    np.testing.assert_allclose(mean_line.get_ydata(), 100 * res.mean_damping_ratio)
+    assert f"{100 * res.mean_damping_ratio:.3g} %" in mean_line.get_label()
+    assert "%" in ax.get_ylabel()
     plt.close(ax.figure)
 
 

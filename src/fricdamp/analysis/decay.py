@@ -50,6 +50,7 @@ REFERENCES.md ("Coulomb oscillator", "Damping ratios"); paper 003 (damping ratio
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -57,6 +58,7 @@ import numpy as np
 
 from fricdamp.analysis.damping import zeta_from_log_decrement
 from fricdamp.errors import ModelError, as_finite_array
+from fricdamp.results import ResultMixin
 
 __all__ = [
     "CoulombFit",
@@ -70,6 +72,7 @@ __all__ = [
     "envelope_peaks",
     "find_peaks",
     "log_decrement",
+    "second_mode",
     "viscous_envelope_fit",
 ]
 
@@ -639,8 +642,57 @@ def _array_list(value) -> Any:
     return value
 
 
-@dataclass(frozen=True)
-class DecayResult:
+#: Second spectral peak (relative to the dominant one) above which a decay counts as carrying
+#: two modes -- together with an envelope that grows somewhere (beating).
+SECOND_MODE_RATIO = 0.1
+#: Relative growth of the interval amplitude that counts as the envelope growing.
+ENVELOPE_GROWTH = 5e-3
+
+
+def second_mode(t, x, *, center: float = 0.0) -> tuple[float, float, float]:
+    """Largest spectral peak of ``x(t)`` away from the dominant frequency and its harmonics.
+
+    The signal (about ``center``, mean removed, Hann window, zero-padded to 4x) is
+    transformed; local maxima of the magnitude closer than ``max(3 / T, 0.1 f1)`` to the
+    dominant frequency ``f1``, to one of its harmonics ``k f1`` (a friction decay's
+    stick-slip corners make odd harmonics) or to 0 are ignored.
+
+    Returns
+    -------
+    ratio : float
+        That peak's magnitude over the dominant one's [-] (0 when there is none).
+    f1, f2 : float
+        The dominant frequency and that of the second peak [Hz] (NaN when none).
+    """
+    t_arr, x_arr = _check_signal(t, x)
+    tu, xu = _uniform(t_arr, x_arr)
+    y = xu - center
+    y = y - y.mean()
+    n = y.size
+    if n < 8:
+        return 0.0, float("nan"), float("nan")
+    dt = float(tu[1] - tu[0])
+    nfft = 1 << int(np.ceil(np.log2(4 * n)))
+    mag = np.abs(np.fft.rfft(y * np.hanning(n), nfft))
+    f = np.fft.rfftfreq(nfft, dt)
+    if mag.size < 3 or not np.any(mag[1:] > 0):
+        return 0.0, float("nan"), float("nan")
+    k1 = 1 + int(np.argmax(mag[1:]))
+    f1 = float(f[k1])
+    guard = max(3.0 / (n * dt), 0.1 * f1)
+    peak = np.zeros(mag.size, bool)
+    peak[1:-1] = (mag[1:-1] > mag[:-2]) & (mag[1:-1] >= mag[2:])
+    harmonic = np.rint(f / f1) if f1 > 0 else np.zeros_like(f)
+    near = (np.abs(f - harmonic * f1) < guard) | (f < guard)
+    cand = np.flatnonzero(peak & ~near)
+    if cand.size == 0:
+        return 0.0, f1, float("nan")
+    j = cand[np.argmax(mag[cand])]
+    return float(mag[j] / mag[k1]), f1, float(f[j])
+
+
+@dataclass(frozen=True, repr=False)
+class DecayResult(ResultMixin):
     """Damping identified from a free decay.
 
     Attributes
@@ -670,6 +722,18 @@ class DecayResult:
         The envelope the fits used.
     method : str
         ``"peaks"`` or ``"hilbert"``.
+    second_mode_ratio : float
+        Largest spectral peak away from the dominant frequency and its harmonics, relative
+        to the dominant one (:func:`second_mode`) [-].
+    second_mode_hz : float
+        Its frequency [Hz] (NaN when none).
+    envelope_growth : float
+        Largest relative growth of the interval amplitude from one interval to the next
+        [-]: 0 for a single decaying mode (its energy, hence its amplitude, only falls).
+    verdict : fricdamp.verdict.Verdict
+        ``unreliable`` when the signal carries two modes (``second_mode_ratio`` above
+        :data:`SECOND_MODE_RATIO` and an envelope that grows by more than
+        :data:`ENVELOPE_GROWTH`: beating): a decrement then mixes both modes' damping.
     """
 
     time: np.ndarray
@@ -684,6 +748,47 @@ class DecayResult:
     coulomb: CoulombFit
     envelope: Envelope = field(repr=False)
     method: str = "peaks"
+    second_mode_ratio: float = 0.0
+    second_mode_hz: float = float("nan")
+    envelope_growth: float = 0.0
+
+    @property
+    def multi_mode(self) -> bool:
+        """The signal carries two modes (see ``verdict``)."""
+        return bool(self.second_mode_ratio > SECOND_MODE_RATIO
+                    and self.envelope_growth > ENVELOPE_GROWTH)
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        est = {"second_mode_ratio": float(self.second_mode_ratio),
+               "envelope_growth": float(self.envelope_growth),
+               "viscous_fit_residual": float(self.viscous.residual),
+               "coulomb_fit_residual": float(self.coulomb.residual)}
+        reasons = ()
+        if self.multi_mode:
+            reasons = (_multi_mode_message(self),)
+        return status_verdict(True, "", est, reasons=reasons)
+
+    def to_xarray(self):
+        """``xarray.Dataset`` over the decay intervals (time, amplitude, damping ratios,
+        frequency [Hz]) with the record means and both fits as attributes."""
+        import xarray as xr
+
+        return xr.Dataset(
+            {"amplitude": (("interval",), self.amplitude, {"units": "unit of x"}),
+             "damping_ratio": (("interval",), self.damping_ratio, {"units": "1"}),
+             "model_damping_ratio": (("interval",), self.model_damping_ratio,
+                                     {"units": "1"}),
+             "frequency": (("interval",), self.frequency_hz, {"units": "Hz"})},
+            coords={"time": ("interval", self.time, {"units": "s"})},
+            attrs={"mean_damping_ratio": self.mean_damping_ratio,
+                   "mean_frequency_hz": self.mean_frequency_hz, "model": self.model,
+                   "method": self.method,
+                   "viscous_damping_ratio": self.viscous.damping_ratio,
+                   "coulomb_decrement_per_cycle": self.coulomb.decrement_per_cycle,
+                   "second_mode_ratio": self.second_mode_ratio,
+                   "envelope_growth": self.envelope_growth})
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (lists and floats) of every field, fits and envelope nested."""
@@ -700,7 +805,9 @@ class DecayResult:
         return out
 
     def plot(self, ax=None):
-        """Plot the damping ratio against the amplitude (points) and the chosen model (line).
+        """Plot the damping ratio [%] against the amplitude: the intervals (points), the
+        record mean ``mean_damping_ratio`` (dashed, the number printed and reported) and
+        the chosen model's fit (line; its value in the legend).
 
         Parameters
         ----------
@@ -716,13 +823,31 @@ class DecayResult:
         if ax is None:
             _, ax = plt.subplots()
         order = np.argsort(self.amplitude)
-        ax.plot(self.amplitude, self.damping_ratio, "o", ms=3, label=f"{self.method}")
-        ax.plot(self.amplitude[order], self.model_damping_ratio[order], "-",
-                label=f"{self.model} fit")
+        ax.plot(self.amplitude, 100 * self.damping_ratio, "o", ms=3,
+                label=f"per interval ({self.method})")
+        ax.axhline(100 * self.mean_damping_ratio, color="k", ls="--", lw=1,
+                   label=f"record mean ζ = {100 * self.mean_damping_ratio:.3g} %")
+        if self.model == "viscous":
+            fit_label = f"viscous fit ζ = {100 * self.viscous.damping_ratio:.3g} %"
+        else:
+            fit_label = "Coulomb fit ζ = ΔA / (2π A)"
+        ax.plot(self.amplitude[order], 100 * self.model_damping_ratio[order], "-",
+                label=fit_label)
         ax.set_xlabel("amplitude")
-        ax.set_ylabel("damping ratio ζ [-]")
-        ax.legend()
+        ax.set_ylabel("damping ratio ζ [%]")
+        if self.multi_mode:
+            ax.set_title("unreliable: the signal carries two modes", fontsize="small",
+                         color="C3")
+        ax.legend(fontsize="small")
         return ax
+
+
+def _multi_mode_message(res: DecayResult) -> str:
+    return (f"the signal carries two modes (a second spectral peak at "
+            f"{res.second_mode_hz:.4g} Hz, {100 * res.second_mode_ratio:.0f} % of the one at "
+            f"{res.mean_frequency_hz:.4g} Hz, and an envelope that grows by "
+            f"{100 * res.envelope_growth:.1f} %): the decrement mixes their damping; "
+            "band-pass filter the signal around one mode or excite one mode only")
 
 
 def _hilbert_cycles(env: Envelope) -> tuple[np.ndarray, ...]:
@@ -794,6 +919,12 @@ def decay_damping(t, x, *, method: Literal["peaks", "hilbert"] = "peaks",
         Non-finite input, t not strictly increasing, too few peaks (fewer than 3 envelope
         points), an unknown ``method`` or ``kind``.
 
+    Warns
+    -----
+    UserWarning
+        The signal carries two modes (a second spectral peak and a growing envelope, see
+        :class:`DecayResult`): the result's verdict is then ``unreliable``.
+
     Examples
     --------
     >>> import numpy as np
@@ -841,8 +972,14 @@ def decay_damping(t, x, *, method: Literal["peaks", "hilbert"] = "peaks",
         model_zeta = np.full(amp.shape, vfit.damping_ratio)
     else:
         model_zeta = cfit.decrement_per_cycle / (2.0 * np.pi * amp)
-    return DecayResult(time=tmid, amplitude=amp, damping_ratio=zeta, frequency_hz=freq,
-                       mean_damping_ratio=float(zeta_from_log_decrement(delta_mean)),
-                       mean_frequency_hz=float(f_mean), model=model,
-                       model_damping_ratio=model_zeta, viscous=vfit, coulomb=cfit,
-                       envelope=env, method=method)
+    ratio, _, f2 = second_mode(t, x, center=center)
+    growth = float(np.max(amp[1:] / amp[:-1] - 1.0, initial=0.0)) if amp.size > 1 else 0.0
+    res = DecayResult(time=tmid, amplitude=amp, damping_ratio=zeta, frequency_hz=freq,
+                      mean_damping_ratio=float(zeta_from_log_decrement(delta_mean)),
+                      mean_frequency_hz=float(f_mean), model=model,
+                      model_damping_ratio=model_zeta, viscous=vfit, coulomb=cfit,
+                      envelope=env, method=method, second_mode_ratio=ratio,
+                      second_mode_hz=f2, envelope_growth=max(growth, 0.0))
+    if res.multi_mode:
+        warnings.warn(_multi_mode_message(res), UserWarning, stacklevel=2)
+    return res

@@ -59,6 +59,7 @@ from typing import Protocol
 import numpy as np
 
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.results import ResultMixin
 
 __all__ = [
     "CondensedSystem",
@@ -210,14 +211,15 @@ def condense(dynamic_stiffness_matrix, force, projection, omega, *,
                            contact_free=X0 @ P.T, dissipation_matrix=Dm, dynamic_stiffness=Z)
 
 
-@dataclass(frozen=True, eq=False)
-class EqLinResult:
+@dataclass(frozen=True, eq=False, repr=False)
+class EqLinResult(ResultMixin):
     """Consistent equivalent-linear steady states, one per batch point.
 
     Attributes
     ----------
     omega : ndarray, shape (n_b,)
-        Angular frequencies [rad/s].
+        Angular frequencies [rad/s] (kept for compatibility: ``frequency_hz`` [Hz],
+        ``omega_rad_s``).
     response : ndarray of complex, shape (n_b, n)
         q~ [m].
     contact_response : ndarray of complex, shape (n_b, m)
@@ -269,6 +271,72 @@ class EqLinResult:
     @property
     def total_iterations(self) -> int:
         return int(self.iterations.sum())
+
+    @property
+    def frequency_hz(self) -> np.ndarray:
+        """Frequencies [Hz], shape (n_b,)."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def omega_rad_s(self) -> np.ndarray:
+        """Angular frequencies [rad/s] (the same as ``omega``), shape (n_b,)."""
+        return self.omega
+
+    def _judge(self):
+        """``unreliable`` when some batch points did not converge (their response is the
+        last iterate), or when the energy balance exceeds its limit."""
+        from fricdamp.results import status_verdict
+
+        est = {"residual": float(np.max(self.residual)) if self.residual.size else None}
+        if self.energy_balance_error.size and np.any(np.isfinite(self.energy_balance_error)):
+            est["energy_balance_error"] = float(np.nanmax(self.energy_balance_error))
+        bad = int(np.sum(~np.asarray(self.converged, bool)))
+        reasons = () if bad == 0 else (
+            f"{bad} of {self.converged.size} points did not converge ({self.message}): "
+            "increase max_iter or use method='hybrid'",)
+        return status_verdict(True, self.message, est, reasons=reasons)
+
+    def to_xarray(self):
+        """``xarray.Dataset`` over the batch points: |q~| and its phase, contact orbits,
+        energies per cycle and the convergence record."""
+        import xarray as xr
+
+        return xr.Dataset(
+            {"response_abs": (("point", "dof"), np.abs(self.response), {"units": "m"}),
+             "response_phase": (("point", "dof"), np.angle(self.response), {"units": "rad"}),
+             "contact_response_real": (("point", "row"), self.contact_response.real,
+                                       {"units": "m"}),
+             "contact_response_imag": (("point", "row"), self.contact_response.imag,
+                                       {"units": "m"}),
+             "external_work": (("point",), self.external_work, {"units": "J"}),
+             "viscous_dissipation": (("point",), self.viscous_dissipation, {"units": "J"}),
+             "equivalent_dissipation": (("point", "group"), self.equivalent_dissipation,
+                                        {"units": "J"}),
+             "energy_balance_error": (("point",), self.energy_balance_error, {"units": "1"}),
+             "residual": (("point",), self.residual, {"units": "1"}),
+             "iterations": (("point",), self.iterations),
+             "converged": (("point",), np.asarray(self.converged, bool))},
+            coords={"frequency": ("point", self.frequency_hz, {"units": "Hz"}),
+                    "omega": ("point", self.omega, {"units": "rad/s"})},
+            attrs={"message": self.message})
+
+    def plot(self, dof: int = 0, ax=None, **kwargs):
+        """|q~| of ``dof`` [m] vs frequency [Hz] (non-converged points marked x); returns
+        the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4))
+        a = np.abs(self.response[:, dof])
+        ax.plot(self.frequency_hz, a, **kwargs)
+        bad = ~np.asarray(self.converged, bool)
+        if np.any(bad):
+            ax.plot(self.frequency_hz[bad], a[bad], "x", color="C3", label="not converged")
+            ax.legend(fontsize="small")
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel(f"amplitude of DOF {dof} [m]")
+        ax.grid(alpha=0.3)
+        return ax
 
 
 def _group_norms(x: np.ndarray, groups: np.ndarray, n_groups: int) -> np.ndarray:

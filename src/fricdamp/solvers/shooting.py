@@ -85,6 +85,7 @@ import scipy.linalg as sla
 from scipy.optimize import brentq
 
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.results import ResultMixin
 from fricdamp.solvers.event import _Run
 from fricdamp.solvers.event_exact import ExactPhase
 from fricdamp.solvers.event_switch import STICK
@@ -393,8 +394,8 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
 # =====================================================================================
 # periodic orbits
 # =====================================================================================
-@dataclass(frozen=True)
-class PeriodicOrbit:
+@dataclass(frozen=True, repr=False)
+class PeriodicOrbit(ResultMixin):
     """A periodic orbit found by shooting.
 
     Attributes
@@ -459,12 +460,55 @@ class PeriodicOrbit:
 
     @property
     def omega(self) -> float:
+        """Excitation circular frequency 2 pi / T [rad/s] (``omega_rad_s``)."""
+        return 2 * np.pi / self.period
+
+    @property
+    def omega_rad_s(self) -> float:
         """Excitation circular frequency 2 pi / T [rad/s]."""
         return 2 * np.pi / self.period
 
     @property
+    def frequency_hz(self) -> float:
+        """Excitation frequency 1 / T [Hz]."""
+        return 1.0 / self.period
+
+    @property
     def floquet_multipliers_abs(self) -> np.ndarray:
         return np.abs(self.multipliers)
+
+    def _judge(self):
+        """``failed`` if Newton did not converge; the residual, the largest |multiplier|
+        and the number of simultaneous events recorded (stability is a property of the
+        orbit, not an error: an unstable orbit is a correct answer)."""
+        from fricdamp.results import status_verdict
+
+        mu = float(np.max(np.abs(self.multipliers))) if self.multipliers.size else None
+        return status_verdict(self.success, self.message,
+                              {"residual": float(self.residual), "max_multiplier_abs": mu,
+                               "n_simultaneous": int(self.n_simultaneous)})
+
+    def to_xarray(self):
+        """``xarray.Dataset``: one orbit (q, q', contact modes over time), the amplitudes
+        and the Floquet multipliers (real and imaginary parts)."""
+        import xarray as xr
+
+        dofs = list(self.dof_names) or [f"q{i + 1}" for i in range(self.q.shape[1])]
+        return xr.Dataset(
+            {"q": (("time", "dof"), self.q, {"units": "m", "long_name": "displacement"}),
+             "qd": (("time", "dof"), self.qd, {"units": "m/s", "long_name": "velocity"}),
+             "mode": (("time", "contact"), np.asarray(self.modes),
+                      {"long_name": "contact mode (0 stick, +1/-1 slip direction)"}),
+             "amplitude": (("dof",), self.amplitude, {"units": "m"}),
+             "multiplier_real": (("multiplier",), self.multipliers.real, {"units": "1"}),
+             "multiplier_imag": (("multiplier",), self.multipliers.imag, {"units": "1"}),
+             "y0": (("state",), self.y0, {"units": "m, m/s"})},
+            coords={"time": ("time", self.t, {"units": "s"}), "dof": dofs},
+            attrs={"frequency_hz": self.frequency_hz, "period_s": float(self.period),
+                   "period_multiple": int(self.period_multiple), "stable": int(self.stable),
+                   "success": int(self.success), "residual": float(self.residual),
+                   "message": self.message, "method": self.method,
+                   "n_events": int(self.n_events)})
 
     def summary(self) -> dict:
         """JSON-able key numbers (the ``periodic_orbit`` results contract)."""
@@ -895,19 +939,21 @@ system: ConstrainedSystem, period: float, y0=None, *, period_multiple: int | Non
 # =====================================================================================
 # continuation in frequency
 # =====================================================================================
-@dataclass(frozen=True)
-class OrbitBranch:
+@dataclass(frozen=True, repr=False)
+class OrbitBranch(ResultMixin):
     """Periodic orbits along the excitation frequency.
 
     Attributes
     ----------
     omega : ndarray, shape (n_points,)
-        Excitation circular frequencies [rad/s].
+        Excitation circular frequencies [rad/s] (kept for compatibility: ``frequency_hz``
+        [Hz], ``omega_rad_s``).
     orbits : tuple of PeriodicOrbit
     amplitude : ndarray, shape (n_points, n_dof)
         [m]; NaN where shooting failed.
     stable : ndarray of bool, shape (n_points,)
     success : ndarray of bool, shape (n_points,)
+        Per point (``verdict`` judges the branch).
     """
 
     omega: np.ndarray
@@ -915,6 +961,61 @@ class OrbitBranch:
     amplitude: np.ndarray
     stable: np.ndarray
     success: np.ndarray
+
+    @property
+    def frequency_hz(self) -> np.ndarray:
+        """Excitation frequencies [Hz], shape (n_points,)."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def omega_rad_s(self) -> np.ndarray:
+        """Excitation circular frequencies [rad/s] (the same as ``omega``)."""
+        return self.omega
+
+    def _judge(self):
+        """``failed`` when no point converged, ``unreliable`` when some did not (their
+        amplitudes are NaN)."""
+        from fricdamp.results import status_verdict
+
+        ok = np.asarray(self.success, bool)
+        bad = int(np.sum(~ok))
+        reasons = () if bad == 0 else (
+            f"shooting failed at {bad} of {ok.size} frequencies: refine the frequency grid "
+            "or raise max_refine",)
+        return status_verdict(bool(np.any(ok)), "shooting failed at every frequency",
+                              {"failed_points": bad}, reasons=reasons)
+
+    def to_xarray(self):
+        """``xarray.Dataset`` over the frequency points: amplitude per DOF, stability and
+        success flags."""
+        import xarray as xr
+
+        names = (self.orbits[0].dof_names if self.orbits and self.orbits[0].dof_names
+                 else [f"q{i + 1}" for i in range(self.amplitude.shape[1])])
+        return xr.Dataset(
+            {"amplitude": (("point", "dof"), self.amplitude, {"units": "m"}),
+             "stable": (("point",), np.asarray(self.stable, bool)),
+             "success": (("point",), np.asarray(self.success, bool))},
+            coords={"frequency": ("point", self.frequency_hz, {"units": "Hz"}),
+                    "omega": ("point", self.omega, {"units": "rad/s"}), "dof": list(names)})
+
+    def plot(self, dof: int = 0, ax=None):
+        """Amplitude of ``dof`` [m] vs excitation frequency [Hz], unstable orbits dashed
+        (open markers); returns the axes."""
+        import matplotlib.pyplot as plt
+
+        from fricdamp.plot import stability_line
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4))
+        stability_line(ax, self.frequency_hz, self.amplitude[:, dof],
+                       np.asarray(self.stable, bool), marker="o", ms=3)
+        ax.set_xlabel("excitation frequency [Hz]")
+        name = (self.orbits[0].dof_names[dof] if self.orbits and self.orbits[0].dof_names
+                else f"q{dof + 1}")
+        ax.set_ylabel(f"amplitude of {name} [m]")
+        ax.grid(alpha=0.3)
+        return ax
 
 
 def continue_orbits(build: Callable[[float], ConstrainedSystem], omegas: Sequence[float], *,
