@@ -50,6 +50,8 @@ def _short(value) -> str | None:
     """A short text for one field value; None to leave the field out."""
     if value is None:
         return None
+    if hasattr(value, "nnz") and hasattr(value, "shape"):      # scipy.sparse
+        return f"<sparse {value.dtype} {value.shape}, nnz={value.nnz}>"
     if isinstance(value, np.ndarray):
         if value.size == 1 and value.ndim == 0:
             return repr(value.item())

@@ -414,6 +414,10 @@ class FrequencyResponse(ResultMixin):
     stability_converged: bool | None = None
     system: object = field(default=None, repr=False, compare=False)
 
+    def __post_init__(self):
+        if self.parameter == "omega" and self.system is not None:
+            _require_harmonic_load(self.system)
+
     @property
     def success(self) -> bool:
         return self.status == 0
@@ -576,6 +580,22 @@ class FrequencyResponse(ResultMixin):
         if not self.success:
             ax.set_title(f"incomplete: {self.message}", fontsize="small")
         return ax
+
+
+def _require_harmonic_load(system) -> None:
+    """A frequency response needs a harmonic load: without one the response is zero at
+    every frequency (raise a ModelError saying what to do)."""
+    from fricdamp.errors import ModelError
+    from fricdamp.structure.system import HarmonicLoad
+
+    for ld in getattr(system, "loads", ()):
+        if isinstance(ld, HarmonicLoad) and ld.harmonic >= 1 and np.any(ld.amplitude != 0):
+            return
+    raise ModelError("frequency_response: the system has no harmonic load (system.loads holds "
+                     "none with harmonic >= 1 and a nonzero amplitude), so its response is zero "
+                     "at every frequency: add one, e.g. system.with_loads(HarmonicLoad("
+                     "amplitude)); for the resonances of the free system use modes() or "
+                     "nonlinear_modes()")
 
 
 def _hb_verdict(system, success: bool, message, energy_balance_error: float, omega: float,

@@ -81,6 +81,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from fricdamp.errors import ModelError
+from fricdamp.results import ResultMixin
 from fricdamp.solvers.aft import HarmonicBasis, aft, cycle_work
 from fricdamp.solvers.continuation import blas_threads, newton, solve_and_continue
 from fricdamp.structure.cyclic import CyclicSector
@@ -337,14 +338,15 @@ class CyclicHarmonicBalance:
         return {"W_ext": w_ext, "W_visc": w_visc, "W_contact": w_c, "E_max": e_max}
 
 
-@dataclass(frozen=True)
-class CyclicForcedResponse:
+@dataclass(frozen=True, repr=False)
+class CyclicForcedResponse(ResultMixin):
     """Forced response of a tuned wheel by cyclic HB (per sector, along the continuation).
 
     Attributes
     ----------
     omega : ndarray, shape (n_p,)
-        Excitation angular frequency [rad/s].
+        Excitation angular frequency [rad/s] (kept for compatibility: ``frequency_hz``
+        [Hz], ``omega_rad_s``).
     sector_harmonics : ndarray, shape (n_p, H+1, n), complex
         Sector-0 DOF phasors ``x_h`` [m] (sector j: ``x_h exp(-i h j phi)``).
     contact_displacement, contact_force : ndarray, shape (n_p, m, 2H+1)
@@ -394,6 +396,59 @@ class CyclicForcedResponse:
     @property
     def n_points(self) -> int:
         return int(self.omega.size)
+
+    @property
+    def frequency_hz(self) -> np.ndarray:
+        """Excitation frequency [Hz], shape (n_p,)."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def omega_rad_s(self) -> np.ndarray:
+        """Excitation angular frequency [rad/s] (the same as ``omega``), shape (n_p,)."""
+        return self.omega
+
+    def to_xarray(self):
+        """``xarray.Dataset`` over the continuation points: sector-0 DOF phasors (real and
+        imaginary parts), contact harmonics, works per period and sector, damping ratio."""
+        import xarray as xr
+
+        H = self.harmonics
+        coef = ["c0"] + [f"{ab}{k}" for k in range(1, H + 1) for ab in ("a", "b")]
+        X = self.sector_harmonics
+        return xr.Dataset(
+            {"harmonics_real": (("point", "harmonic", "dof"), X.real, {"units": "m"}),
+             "harmonics_imag": (("point", "harmonic", "dof"), X.imag, {"units": "m"}),
+             "contact_displacement": (("point", "row", "coefficient"),
+                                      self.contact_displacement, {"units": "m"}),
+             "contact_force": (("point", "row", "coefficient"), self.contact_force,
+                               {"units": "N"}),
+             "work_external": (("point",), self.work_external, {"units": "J"}),
+             "work_viscous": (("point",), self.work_viscous, {"units": "J"}),
+             "work_contact": (("point",), self.work_contact, {"units": "J"}),
+             "kinetic_energy": (("point",), self.kinetic_energy, {"units": "J"}),
+             "damping_ratio": (("point",), self.damping_ratio, {"units": "1"}),
+             "energy_balance_error": (("point",), self.energy_balance_error, {"units": "1"})},
+            coords={"frequency": ("point", self.frequency_hz, {"units": "Hz"}),
+                    "omega": ("point", self.omega, {"units": "rad/s"}),
+                    "harmonic": np.arange(H + 1), "coefficient": coef},
+            attrs={"nd": self.nd, "harmonics": H, "samples": self.samples,
+                   "status": self.status, "message": self.message})
+
+    def plot(self, dofs=(0,), ax=None, **kwargs):
+        """Peak-to-mean amplitude of sector 0's ``dofs`` [m] vs excitation frequency [Hz];
+        returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(self.frequency_hz, self.amplitude(dofs), **kwargs)
+        ax.set_xlabel("excitation frequency [Hz]")
+        ax.set_ylabel(f"amplitude of sector-0 DOF {list(np.atleast_1d(dofs))} [m]")
+        ax.set_title(f"cyclic HB, {self.nd} ND" + ("" if self.success else
+                                                   f" (incomplete: {self.message})"),
+                     fontsize="small")
+        ax.grid(alpha=0.3)
+        return ax
 
     @property
     def damping_ratio(self) -> np.ndarray:

@@ -50,6 +50,7 @@ from numba import njit
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ConvergenceError, ModelError
 from fricdamp.limits import check_time_memory
+from fricdamp.results import ResultMixin
 from fricdamp.solvers.newmark import NewmarkScheme
 from fricdamp.solvers.timestep import EnergyBalance, check_time_span
 from fricdamp.structure.system import MechanicalSystem
@@ -243,8 +244,8 @@ def solve_static(system: MechanicalSystem, load=None, *, states=None, increments
 
 
 # ================================================================================ transient
-@dataclass(frozen=True)
-class FastTransientResult(EnergyBalance):
+@dataclass(frozen=True, repr=False)
+class FastTransientResult(ResultMixin, EnergyBalance):
     """Time history from :func:`integrate_contact3d`.
 
     Attributes
@@ -294,6 +295,44 @@ class FastTransientResult(EnergyBalance):
     setup_s: float = 0.0
     method: str = "newmark"
     meta: dict = field(default_factory=dict, compare=False)
+
+    def to_xarray(self):
+        """``xarray.Dataset``: output displacements over time, contact status, cumulative
+        energies [J] and the stored contact fields (their own time axis)."""
+        import xarray as xr
+
+        ds = xr.Dataset(
+            {"q": (("time", "output"), self.q, {"units": "m", "long_name": "displacement"}),
+             "contact_status": (("time", "contact"), self.contact_status,
+                                {"long_name": "0 open, 1 stick, 2 slip"}),
+             "contact_displacement": (("time", "contact", "direction"),
+                                      self.contact_displacement, {"units": "m"}),
+             "contact_force": (("time", "contact", "direction"), self.contact_force,
+                               {"units": "N"})},
+            coords={"time": ("time", self.t, {"units": "s"}),
+                    "output": np.asarray(self.output_dofs),
+                    "direction": ["n", "t1", "t2"]},
+            attrs={"method": self.method, "success": int(self.success), "status": self.status,
+                   "message": self.message, "n_steps": self.n_steps,
+                   "energy_balance_error": self.energy_balance_error})
+        for k, arr in self.energy.items():
+            ds[f"energy_{k}"] = (("time",), np.asarray(arr), {"units": "J"})
+        return ds
+
+    def plot(self, outputs=None, ax=None):
+        """Displacement histories of the outputs (indices, default all) [mm]; returns the
+        axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3.5))
+        for i in (range(self.q.shape[1]) if outputs is None else outputs):
+            ax.plot(self.t, 1e3 * self.q[:, i], lw=1, label=f"output {i}")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("displacement [mm]")
+        ax.legend(loc="upper right", fontsize="small")
+        ax.grid(alpha=0.3)
+        return ax
 
 
 

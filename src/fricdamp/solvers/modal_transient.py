@@ -47,6 +47,7 @@ import scipy.sparse.linalg as spla
 
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.results import ResultMixin
 from fricdamp.solvers.fast_transient import (
     ENERGY_KEYS,
     _blas1,
@@ -666,8 +667,8 @@ def transient_compliance(basis: ModalBasis, dt: float, *, method: str = "newmark
         return basis.rows.compliance(s_inv)
 
 
-@dataclass(frozen=True)
-class ModalTransientResult(EnergyBalance):
+@dataclass(frozen=True, repr=False)
+class ModalTransientResult(ResultMixin, EnergyBalance):
     """Time history from :func:`integrate_modal`.
 
     Attributes
@@ -723,6 +724,46 @@ class ModalTransientResult(EnergyBalance):
         st = self.contact_status
         return {"open": float(np.mean(st == 0)), "stick": float(np.mean(st == 1)),
                 "slip": float(np.mean(st == 2))}
+
+    def to_xarray(self):
+        """``xarray.Dataset``: output displacements over time, contact status, cumulative
+        energies [J] and the stored contact fields (their own time axis)."""
+        import xarray as xr
+
+        n_out = self.output.shape[1]
+        ds = xr.Dataset(
+            {"q": (("time", "output"), self.output, {"units": "m", "long_name": "displacement"}),
+             "contact_status": (("time", "contact"), self.contact_status,
+                                {"long_name": "0 open, 1 stick, 2 slip"}),
+             "contact_displacement": (("contact_time", "contact", "direction"),
+                                      self.contact_displacement, {"units": "m"}),
+             "contact_force": (("contact_time", "contact", "direction"), self.contact_force,
+                               {"units": "N"})},
+            coords={"time": ("time", self.t, {"units": "s"}),
+                    "contact_time": ("contact_time", self.t_contacts, {"units": "s"}),
+                    "output": np.arange(n_out),
+                    "direction": ["n", "t1", "t2"]},
+            attrs={"method": self.method, "success": int(self.success), "status": self.status,
+                   "message": self.message, "n_steps": self.n_steps,
+                   "energy_balance_error": self.energy_balance_error})
+        for k, arr in self.energy.items():
+            ds[f"energy_{k}"] = (("time",), np.asarray(arr), {"units": "J"})
+        return ds
+
+    def plot(self, outputs=None, ax=None):
+        """Displacement histories of the outputs (indices, default all) [mm]; returns the
+        axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3.5))
+        for i in (range(self.output.shape[1]) if outputs is None else outputs):
+            ax.plot(self.t, 1e3 * self.output[:, i], lw=1, label=f"output {i}")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("displacement [mm]")
+        ax.legend(loc="upper right", fontsize="small")
+        ax.grid(alpha=0.3)
+        return ax
 
 
 class _State:

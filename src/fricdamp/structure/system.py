@@ -87,7 +87,11 @@ def _check_mass(M: Matrix) -> None:
             ) from None
 
 
-@dataclass(frozen=True)
+def _matrix_kind(A) -> str:
+    return f"sparse (nnz {A.nnz})" if sp.issparse(A) else "dense"
+
+
+@dataclass(frozen=True, repr=False)
 class ContactElement:
     """Contacts sharing one law, attached to the structure through a projection.
 
@@ -121,6 +125,12 @@ class ContactElement:
             )
         object.__setattr__(self, "projection", P)
 
+    def __repr__(self) -> str:
+        return (f"ContactElement({self.name!r}: {type(self.law).__name__}, "
+                f"{self.n_contacts} contact(s) x {self.n_dir} direction(s), projection "
+                f"{self.projection.shape[0]} x {self.projection.shape[1]} "
+                f"{_matrix_kind(self.projection)})")
+
     @property
     def n_contacts(self) -> int:
         return self.law.n_contacts
@@ -138,42 +148,61 @@ class ContactElement:
         return np.asarray(self.projection.T @ np.asarray(force).reshape(-1)).ravel()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class HarmonicLoad:
     """Harmonic load ``F(t) = Re(amplitude * exp(i * harmonic * omega * t))`` [N].
 
     ``amplitude`` is complex (n_dof,): real part the cosine, minus the imaginary part the sine
     component. For a travelling wave on a cyclic assembly give the phases in ``amplitude``.
+    ``omega`` [rad/s] is needed in the time domain only: harmonic balance
+    (``frequency_response``, ``harmonic_balance``) replaces it by the solver's frequency, so
+    it may be left out there (None); evaluating a load without it raises a ModelError.
     """
 
     amplitude: np.ndarray
-    omega: float
+    omega: float | None = None
     harmonic: int = 1
 
     def __post_init__(self):
         a = np.asarray(self.amplitude, dtype=complex).ravel()
         if not np.all(np.isfinite(a)):
             raise ModelError("HarmonicLoad.amplitude must be finite")
-        if not np.isfinite(self.omega) or self.omega < 0:
-            raise ModelError(f"HarmonicLoad.omega must be >= 0 rad/s, got {self.omega!r}")
+        if self.omega is not None:
+            if not np.isfinite(self.omega) or self.omega < 0:
+                raise ModelError(f"HarmonicLoad.omega must be >= 0 rad/s, got {self.omega!r}")
+            object.__setattr__(self, "omega", float(self.omega))
         if int(self.harmonic) != self.harmonic or self.harmonic < 0:
             raise ModelError(f"HarmonicLoad.harmonic must be an integer >= 0, got {self.harmonic}")
         object.__setattr__(self, "amplitude", a)
-        object.__setattr__(self, "omega", float(self.omega))
 
     def __call__(self, t: float) -> np.ndarray:
+        if self.omega is None:
+            raise ModelError("HarmonicLoad.omega is not set: give its frequency in rad/s "
+                             "(HarmonicLoad(amplitude, omega) or load.with_omega(omega)) for "
+                             "a time-domain run; harmonic balance does not need it")
         return np.real(self.amplitude * np.exp(1j * self.harmonic * self.omega * t))
+
+    def __repr__(self) -> str:
+        w = "None" if self.omega is None else f"{self.omega:.6g}"
+        return (f"HarmonicLoad(n_dof={self.amplitude.size}, max |amplitude|="
+                f"{float(np.max(np.abs(self.amplitude), initial=0.0)):.4g} N, omega={w} rad/s, "
+                f"harmonic={self.harmonic})")
 
     def with_omega(self, omega: float) -> HarmonicLoad:
         return replace(self, omega=omega)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class TimeLoad:
     """Arbitrary load ``F(t) = shape * func(t)`` [N]: ``shape`` (n_dof,), ``func`` scalar."""
 
     shape: np.ndarray
     func: Callable[[float], float]
+
+    def __repr__(self) -> str:
+        name = getattr(self.func, "__name__", type(self.func).__name__)
+        return (f"TimeLoad(n_dof={self.shape.size}, max |shape|="
+                f"{float(np.max(np.abs(self.shape), initial=0.0)):.4g} N, func={name})")
 
     def __post_init__(self):
         object.__setattr__(self, "shape", np.asarray(self.shape, dtype=float).ravel())
@@ -198,7 +227,7 @@ class RotationTerms:
     centrifugal_load: np.ndarray | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class MechanicalSystem:
     """Linear structure with friction contacts.
 
@@ -267,6 +296,26 @@ class MechanicalSystem:
             if len(names) != n:
                 raise ModelError(f"dof_names has {len(names)} names for {n} DOFs")
             object.__setattr__(self, "dof_names", names)
+
+    def __repr__(self) -> str:
+        names = self.names
+        shown = ", ".join(names[:4]) + (", ..." if len(names) > 4 else "")
+        lines = [f"MechanicalSystem {self.name!r}: {self.n_dof} DOFs ({shown}); M, D, K "
+                 f"{_matrix_kind(self.K)}"]
+        if self.contacts:
+            lines.append("  contacts: " + "; ".join(
+                f"{c.name} ({type(c.law).__name__}, {c.n_contacts} x {c.n_dir})"
+                for c in self.contacts[:4]) + ("; ..." if len(self.contacts) > 4 else ""))
+        if self.loads:
+            n_h = sum(isinstance(ld, HarmonicLoad) for ld in self.loads)
+            lines.append(f"  loads: {n_h} harmonic, {len(self.loads) - n_h} time")
+        if np.any(self.static_load):
+            lines.append(f"  static load: max |F| = {np.max(np.abs(self.static_load)):.4g} N")
+        if self.rotation is not None:
+            terms = [k for k in ("gyroscopic", "spin_softening", "stress_stiffening",
+                                 "centrifugal_load") if getattr(self.rotation, k) is not None]
+            lines.append("  rotation terms: " + (", ".join(terms) or "none"))
+        return "\n".join(lines)
 
     # ----------------------------------------------------------------- properties
     @property
