@@ -124,12 +124,31 @@ def status_verdict(success: bool, message: str = "", estimates: Mapping | None =
 
 
 def save_dataset(ds, path) -> None:
-    """Write ``ds`` atomically as netCDF-3 (``.nc``) or ``.npz`` (see
-    :func:`fricdamp.iofiles.write_results`: complex variables split into ``_real``/``_imag``,
-    booleans as int8)."""
-    from fricdamp.iofiles import write_results
+    """Write ``ds`` atomically as netCDF-3 (``.nc``; complex variables split into
+    ``_real``/``_imag``, booleans as int8, see :func:`fricdamp.iofiles.write_results`) or as
+    a NumPy archive (``.npz``: every variable under its own name, its dimensions in
+    ``<name>__dims``, the attributes as JSON in ``__attrs__``). :func:`load` reads both."""
+    import json
+    from pathlib import Path
 
-    write_results(path, ds)
+    from fricdamp.iofiles import atomic_path, to_jsonable, write_results
+
+    path = Path(path)
+    if path.suffix != ".npz":
+        if path.suffix != ".nc":
+            raise ValueError(f"path must end in .nc (netCDF) or .npz (NumPy), got {path}")
+        write_results(path, ds)
+        return
+    arrays = {}
+    for name, var in ds.variables.items():
+        arrays[str(name)] = np.asarray(var.values)
+        arrays[f"{name}__dims"] = np.array(var.dims, dtype=str)
+    attrs = {"dataset": to_jsonable(dict(ds.attrs)),
+             "variables": {str(n): to_jsonable(dict(v.attrs)) for n, v in ds.variables.items()},
+             "coords": [str(c) for c in ds.coords]}
+    arrays["__attrs__"] = np.array(json.dumps(attrs))
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
+        np.savez(fh, **arrays)
 
 
 def load(path):

@@ -172,7 +172,7 @@ class NonlinearModes(ResultMixin):
             },
             coords={"amplitude": ("amplitude", self.amplitude, {"units": amp_units}),
                     "dof": dofs, "contact": contacts},
-            attrs={"mode": self.mode, "linear_frequency": self.linear_frequency,
+            attrs={"mode_index": self.mode, "linear_frequency": self.linear_frequency,
                    "linear_frequency_hz": self.linear_frequency_hz,
                    "linear_damping_ratio": self.linear_damping_ratio, "status": self.status,
                    "message": self.message, "harmonics": self.harmonics},

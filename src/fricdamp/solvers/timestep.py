@@ -226,19 +226,9 @@ class TimeResult(ResultMixin, EnergyBalance):
 
     def save(self, path) -> None:
         """Save to netCDF (``.nc``) or numpy (``.npz``), atomically: a write that fails
-        (disk full) or is interrupted leaves neither a partial file nor a temporary one."""
-        from pathlib import Path
-
-        from fricdamp.iofiles import atomic_path
-
-        path = Path(path)
-        with atomic_path(path) as tmp:
-            if path.suffix == ".npz":
-                with open(tmp, "wb") as fh:
-                    np.savez(fh, **{k: v.values for k, v in
-                                    self.to_xarray().data_vars.items()}, t=self.t)
-            else:
-                self.to_xarray().to_netcdf(tmp, engine="scipy")
+        (disk full) or is interrupted leaves neither a partial file nor a temporary one.
+        :func:`fricdamp.results.load` reads it back."""
+        ResultMixin.save(self, path)
 
     def plot(self, dofs=None, ax=None):
         """Displacement histories of the chosen DOFs (indices, default all); returns the axes."""
