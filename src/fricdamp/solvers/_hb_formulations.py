@@ -376,13 +376,58 @@ class _Full:
             dxi = -omega * MXE
         return np.asarray(SX), np.asarray(dSX), dxi
 
+    def _jenkins_step(self):
+        """Buffers of the direct Jenkins AFT step, or None if another law acts.
+
+        When every contact element is a :class:`~fricdamp.contact.Jenkins` law (one
+        direction), :meth:`evaluate` with ``aft_result=False`` calls the compiled AFT step
+        :func:`~fricdamp.contact.jenkins.jenkins_harmonic_kernel` for all contacts at once
+        with the buffers kept here, instead of :func:`~fricdamp.solvers.aft.aft` and
+        :meth:`Jenkins.harmonic_response` (their per-call Python overhead, ~0.1 ms, was a
+        third of an evaluation on the ring of 30 contacts). Same kernel, same inputs, same
+        order of operations: the same floating-point results.
+        """
+        st = getattr(self, "_jstep", False)
+        if st is not False:
+            return st
+        from fricdamp.contact.jenkins import Jenkins, _prefix_sums
+
+        st = None
+        s = self.s
+        # the exact type: a subclass may change the law
+        if (s.contacts and not self.nma
+                and all(type(c.law) is Jenkins and c.n_dir == 1
+                        and not c.law.velocity_dependent for c in s.contacts)):
+
+            syn = np.ascontiguousarray(s.basis.synthesis, dtype=float)
+            ana = np.ascontiguousarray(s.basis.analysis, dtype=float)
+            N, m = syn.shape
+            nc = s.n_rows
+            st = dict(
+                kt=np.ascontiguousarray(np.concatenate([c.law.stiffness for c in s.contacts]),
+                                        dtype=float),
+                fs=np.ascontiguousarray(np.concatenate([c.law.slip_force
+                                                        for c in s.contacts]), dtype=float),
+                w0=np.zeros(nc), syn=syn, pre=_prefix_sums(syn, ana),
+                U=np.empty((nc, m)), F=np.empty((nc, m)), Jb=np.empty((nc, m, m)),
+                u_t=np.empty((nc, N)), f_t=np.empty((nc, N)), w=np.empty(nc))
+        self._jstep = st
+        return st
+
     def evaluate(self, x, omega, *, xi=0.0, jacobian=True, scale=1.0, x_scale=1.0,
-                 load_scale=1.0):
+                 load_scale=1.0, aft_result=True):
         """Residual r (N,) [N * scale], Jacobian wrt x (scaled), dr/dOmega, dr/dxi, AFT.
 
         ``load_scale`` multiplies the harmonic loads (k >= 1); the static load is kept.
+        ``aft_result=False``: the AFT result is not returned (None), which lets systems
+        whose contacts are all Jenkins elements take the direct compiled AFT step
+        (:meth:`_jenkins_step`; same results).
         """
         s = self.s
+        if not aft_result and jacobian:
+            js = self._jenkins_step()
+            if js is not None:
+                return self._evaluate_jenkins(js, x, omega, scale, x_scale, load_scale)
         X = (x * x_scale).reshape(s.n, s.nh)
         if self.nma:
             SX, dSX, dxi = self.linear_terms(X, omega, xi)
@@ -422,26 +467,55 @@ class _Full:
                              scale * x_scale)
             if self.nma:
                 data -= (xi * omega * scale * x_scale) * self.base[3]
-            if self.dense:
-                J = np.zeros(self.N * self.N)
-                J[self.lin_index] = data
-                J = J.reshape(self.N, self.N)
-            else:
-                # one CSC object per formulation, its data replaced at each call (building
-                # a scipy matrix costs ~0.1 ms of format checks): callers use J before the
-                # next evaluation, as Newton and the continuation do
-                J = getattr(self, "_J", None)
-                if J is None:
-                    from fricdamp.solvers.continuation import mark_fixed_pattern
-
-                    J = sp.csc_matrix((data, self.indices, self.indptr),
-                                      shape=(self.N, self.N))
-                    J.has_sorted_indices = True
-                    self._J = mark_fixed_pattern(J)
-                else:
-                    J.data = data
+            J = self._jacobian_from(data)
         dxi_out = None if dxi is None else dxi.ravel() * scale
         return r.ravel() * scale, J, dSX.ravel() * scale, dxi_out, res
+
+    def _evaluate_jenkins(self, js, x, omega, scale, x_scale, load_scale):
+        """:meth:`evaluate` (not NMA, with the Jacobian) for Jenkins contacts only: the same
+        compiled kernels called in the same order with the same data, no AFT result."""
+        from fricdamp.contact.jenkins import jenkins_harmonic_kernel
+
+        s = self.s
+        X = np.ascontiguousarray((x * x_scale).reshape(s.n, s.nh))
+        rhs = (self.F_static + load_scale * self.F_harmonic if load_scale != 0.0
+               else self.F_static)
+        r = np.empty((s.n, s.nh))
+        dSX = np.empty((s.n, s.nh))
+        _linear_residual(X.ravel(), self.lin_ptr, self.lin_col, self.lin_val[0],
+                         self.lin_val[1], self.lin_val[2], float(omega), rhs, r.ravel(),
+                         dSX.ravel())
+        U, F, Jb = js["U"], js["F"], js["Jb"]
+        _csr_times(*self.P_csr, X, U, False)
+        PS, PA, synT, anaT = js["pre"]
+        jenkins_harmonic_kernel(U, js["kt"], js["fs"], js["w0"], js["syn"], synT, anaT, PS,
+                                PA, 50, True, F, Jb, js["u_t"], js["f_t"], js["w"])
+        _csr_times(*self.PT_csr, F, r, True)
+        data = np.empty(self.nnz)
+        Jflat = Jb.ravel() if self.nl_src.size else np.zeros(1)
+        _jacobian_values(data, self.base[0], self.base[1], self.base[2], omega**2, omega,
+                         self.nl_dest, self.nl_coef_sorted, self.nl_src_sorted, Jflat,
+                         scale * x_scale)
+        return r.ravel() * scale, self._jacobian_from(data), dSX.ravel() * scale, None, None
+
+    def _jacobian_from(self, data):
+        if self.dense:
+            J = np.zeros(self.N * self.N)
+            J[self.lin_index] = data
+            return J.reshape(self.N, self.N)
+        # one CSC object per formulation, its data replaced at each call (building a scipy
+        # matrix costs ~0.1 ms of format checks): callers use J before the next evaluation,
+        # as Newton and the continuation do
+        J = getattr(self, "_J", None)
+        if J is None:
+            from fricdamp.solvers.continuation import mark_fixed_pattern
+
+            J = sp.csc_matrix((data, self.indices, self.indptr), shape=(self.N, self.N))
+            J.has_sorted_indices = True
+            self._J = mark_fixed_pattern(J)
+        else:
+            J.data = data
+        return J
 
     def to_dofs(self, x, omega, x_scale=1.0, load_scale=1.0):
         return (x * x_scale).reshape(self.s.n, self.s.nh)
@@ -567,7 +641,10 @@ class _Condensed:
         Y[:, 2::2] = -C[1:].imag.T
         return Y
 
-    def evaluate(self, y, omega, *, jacobian=True, scale=1.0, x_scale=1.0, load_scale=1.0):
+    def evaluate(self, y, omega, *, jacobian=True, scale=1.0, x_scale=1.0, load_scale=1.0,
+                 aft_result=True):
+        """Residual in the contact coordinates (``aft_result`` is accepted for the common
+        interface with :meth:`_Full.evaluate`; the AFT result is always returned)."""
         s = self.s
         Y = (y * x_scale).reshape(self.m, s.nh)
         R, dR, ul, dul = self.compliance(omega)

@@ -231,7 +231,8 @@ def harmonic_balance(system: MechanicalSystem, omega: float, *, harmonics: int =
         scale = 1.0 / (f_ref if isinstance(form, _Full) else x_ref)
 
         def fun(x):
-            r, J, _, _, _ = form.evaluate(x, omega, scale=scale, x_scale=x_ref)
+            r, J, _, _, _ = form.evaluate(x, omega, scale=scale, x_scale=x_ref,
+                                          aft_result=False)
             return r, J
 
         block = _block_size(form)
@@ -422,10 +423,11 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
 
         def residual(x, lam):
             if param == "omega":
-                r, J, dr, _, _ = form.evaluate(x, lam, scale=scale, x_scale=x_ref)
+                r, J, dr, _, _ = form.evaluate(x, lam, scale=scale, x_scale=x_ref,
+                                               aft_result=False)
                 return r, J, dr
             r, J, _, _, _ = form.evaluate(x, omega0, scale=scale, x_scale=x_ref,
-                                          load_scale=lam)
+                                          load_scale=lam, aft_result=False)
             return r, J, d_load
 
         guesses = _initial_guess(s, form, omega0, initial_guess)

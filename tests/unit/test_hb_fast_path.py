@@ -1,0 +1,84 @@
+"""The direct Jenkins AFT step of the full HB formulation (issue 13, cost per point).
+
+``_Full.evaluate(..., aft_result=False)`` calls the compiled Jenkins AFT step for all
+contacts with kept buffers instead of the generic :func:`fricdamp.solvers.aft.aft` driver.
+It runs the same kernels on the same data in the same order, so the residual, its Jacobian
+and dr/dOmega must be *identical* (bit for bit) to the generic path, and a frequency
+response computed through it must give the same curve: same points, coefficients equal to
+1e-8 relative to the largest (measured: 0, bitwise). Other laws (and subclasses of
+Jenkins) keep the generic path.
+"""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from fricdamp.contact import Jenkins
+from fricdamp.solvers import hb
+from fricdamp.solvers._hb_formulations import _Full, _Setup
+from fricdamp.structure import ContactElement, MechanicalSystem
+
+
+def ring(n=30, split=False, law=Jenkins):
+    K = sp.lil_matrix((n, n))
+    P = sp.lil_matrix((n, n))
+    for i in range(n):
+        j = (i + 1) % n
+        K[i, i] += 1.1
+        K[i, j] -= 0.05
+        K[j, i] -= 0.05
+        P[i, i] = -1.0
+        P[i, j] = 1.0
+    P = P.tocsr()
+    if split:        # two Jenkins elements with different parameters
+        h = n // 2
+        contacts = (ContactElement(law(0.5, 0.02, n_contacts=h), P[:h], name="a"),
+                    ContactElement(law(0.7, 0.015, n_contacts=n - h), P[h:], name="b"))
+    else:
+        contacts = (ContactElement(law(0.5, 0.02, n_contacts=n), P, name="jenkins"),)
+    return MechanicalSystem(M=sp.identity(n, format="csr"), K=K.tocsr(),
+                            D=0.005 * sp.identity(n, format="csr"), contacts=contacts,
+                            loads=(hb.engine_order_load(n, 3, 0.01),), name="ring")
+
+
+@pytest.mark.parametrize("split", [False, True])
+def test_direct_step_identical_to_generic_aft(split):
+    s = _Setup(ring(split=split), 5, 64)
+    form = _Full(s)
+    assert form._jenkins_step() is not None
+    rng = np.random.default_rng(3)
+    for omega, load_scale in ((0.95, 1.0), (1.05, 0.7)):
+        # amplitudes from 1e-3 to 0.1 along the ring: stuck and slipping contacts
+        amp = np.repeat(np.geomspace(1e-3, 0.1, s.n), s.nh)
+        x = amp * rng.standard_normal(form.N)
+        kw = dict(scale=3.0, x_scale=1.7, load_scale=load_scale)
+        r0, J0, d0, _, res = form.evaluate(x, omega, **kw)
+        J0 = J0.copy()                      # the sparse Jacobian's data is replaced
+        r1, J1, d1, xi1, res1 = form.evaluate(x, omega, aft_result=False, **kw)
+        assert res is not None and res1 is None and xi1 is None
+        assert np.array_equal(r0, r1) and np.array_equal(d0, d1)
+        assert np.array_equal(J0.toarray(), J1.toarray())
+        # stuck and slipping contacts both present, so both branches of the step are covered
+        limit = np.concatenate([c.law.slip_force for c in s.contacts])
+        slipping = np.abs(res.f_time).max(axis=0) >= (1 - 1e-12) * limit
+        assert 0 < np.mean(slipping) < 1
+
+
+def test_curve_same_through_direct_step(monkeypatch):
+    system = ring()
+    fast = hb.frequency_response(system, 0.9, 1.3, harmonics=5, samples=64)
+    monkeypatch.setattr(_Full, "_jenkins_step", lambda self: None)
+    slow = hb.frequency_response(system, 0.9, 1.3, harmonics=5, samples=64)
+    assert fast.success and slow.success
+    assert fast.n_points == slow.n_points and fast.n_factorizations == slow.n_factorizations
+    scale = np.abs(slow.coefficients).max()
+    assert np.abs(fast.coefficients - slow.coefficients).max() <= 1e-8 * scale
+    assert np.abs(fast.omega - slow.omega).max() <= 1e-8 * slow.omega.max()
+    assert fast.peak(0)[1] == pytest.approx(slow.peak(0)[1], rel=1e-8)
+
+
+def test_other_laws_keep_generic_path():
+    class MyJenkins(Jenkins):
+        pass
+
+    assert _Full(_Setup(ring(split=True, law=MyJenkins), 3, 32))._jenkins_step() is None
