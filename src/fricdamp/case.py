@@ -39,6 +39,7 @@ __all__ = [
     "ForcedResponse",
     "FreeDecay",
     "Hysteresis",
+    "IwanContact",
     "JenkinsContact",
     "MatricesModel",
     "Section",
@@ -204,6 +205,24 @@ class CubicSpringContact(Attachment):
     nonlinearity), conservative and memoryless."""
 
     k3_N_per_m3: float = Field(description="cubic stiffness k3 (> 0 hardening, < 0 softening)")
+
+
+class IwanContact(Attachment):
+    """``[[contacts]] type = "iwan"``: four-parameter Iwan joint (Segalman 2005), a
+    continuum of Jenkins elements with a power-law slip density and a Dirac at its cut
+    (:class:`fricdamp.contact.iwan.Iwan`)."""
+
+    stiffness_N_per_m: Positive = Field(description="stiffness K_T of the stuck joint")
+    slip_force_N: Positive = Field(description="force of macro-slip F_S")
+    chi: float = Field(gt=-1.0, le=1.0, description="exponent of the slip density: the "
+                                                    "micro-slip energy grows as A^(3 + chi) "
+                                                    "(Segalman: -1 < chi <= 0)")
+    beta: NonNegative = Field(description="weight of the Dirac at phi_max relative to the "
+                                          "power-law part's stiffness")
+    n_elements: int = Field(100, ge=2, le=10_000, description="Jenkins elements of the "
+                                                              "power-law part (+1 for the Dirac)")
+    min_ratio: float = Field(1e-4, gt=0.0, lt=1.0, description="smallest slip displacement "
+                                                               "of the discretisation / phi_max")
 
 
 DirectionDofs = Annotated[list[DofNumber], Field(min_length=1, max_length=2)]
