@@ -227,3 +227,24 @@ def test_bad_coordinates_and_function_arguments():
         ellipse_damping(1e-6, 1e-6, 1.0, 0.1, 0.0)
     with pytest.raises(ModelError, match="side_a"):
         rectangle_mean_radius(0.0, 1.0)
+
+
+def test_rectangle_twist_stiffness_is_the_polar_moment_of_a_uniform_stiffness():
+    """k_r = (k_t / (a h)) int (x^2 + y^2) dA over the rectangle (scipy.integrate.dblquad,
+    1e-10); the stick-stiffness law of paper 001's case lives here and is re-exported."""
+    from fricdamp.contact.equivalent import JenkinsEllipseDamping, rectangle_twist_stiffness
+    from fricdamp.models import blade_pair
+
+    kt, a, h = 3.0e6, 0.012, 0.005
+    polar, _ = integrate.dblquad(lambda y, x: x * x + y * y, -a / 2, a / 2, -h / 2, h / 2,
+                                 epsabs=0, epsrel=1e-12)
+    assert rectangle_twist_stiffness(kt, a, h) == pytest.approx(kt * polar / (a * h),
+                                                                rel=1e-10)
+    assert blade_pair.JenkinsEllipseDamping is JenkinsEllipseDamping
+    model = blade_pair.build_blade_pair()
+    p = model.params
+    np.testing.assert_allclose(model.rotational_stick_stiffness(kt),
+                               rectangle_twist_stiffness(kt, np.array(p.contact_width),
+                                                         np.array(p.contact_height)))
+    with pytest.raises(ModelError, match="tangential_stiffness"):
+        rectangle_twist_stiffness(0.0, a, h)

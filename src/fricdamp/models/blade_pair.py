@@ -65,7 +65,12 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from fricdamp.contact.equivalent import EllipseFrictionDamping, rectangle_mean_radius
+from fricdamp.contact.equivalent import (  # JenkinsEllipseDamping: re-exported, it lived here
+    EllipseFrictionDamping,
+    JenkinsEllipseDamping,
+    rectangle_mean_radius,
+    rectangle_twist_stiffness,
+)
 from fricdamp.errors import ModelError, as_finite_array, check_positive
 from fricdamp.structure.beam3d import BeamModel, BeamSection, beam_model
 from fricdamp.structure.beam3d_rotation import RigidBodyTerms, rigid_body_terms, skew
@@ -535,8 +540,8 @@ class BladePairModel:
         """``k_t (a_ef^2 + h_ef^2) / 12`` [N m/rad] of A and B: a uniform tangential
         stiffness per unit area over the effective rectangle, twisted about its centre."""
         p = self.params
-        a_ef, h_ef = np.array(p.contact_width), np.array(p.contact_height)
-        return float(tangential_stiffness) * (a_ef**2 + h_ef**2) / 12.0
+        return rectangle_twist_stiffness(tangential_stiffness, np.array(p.contact_width),
+                                         np.array(p.contact_height))
 
     def system(self, speed: float, *, order: int | None = None,
                extra_damping: np.ndarray | None = None) -> MechanicalSystem:
@@ -556,96 +561,6 @@ class BladePairModel:
         return MechanicalSystem(M=self.M, K=self.stiffness(w), D=D, loads=loads,
                                 dof_names=self.dof_names, name="blade_pair",
                                 meta={"spin_speed_rad_s": w})
-
-
-class JenkinsEllipseDamping(EllipseFrictionDamping):
-    """Equivalent damping *and stiffness* of friction contacts with a stick spring.
-
-    The contact is a Jenkins element: a tangential spring ``k_t`` [N/m] in series with the
-    Coulomb slider of 001 (slip force ``F = f N``); the rotation about the normal a spring
-    ``k_r = k_t (a_ef^2 + h_ef^2)/12`` [N m/rad] in series with the slider of torque
-    ``M_0 = f N rho``. Its describing function for a harmonic relative displacement of
-    amplitude a (the major semi-axis of the orbit; phi for the rotation) is the classic
-    one-dimensional one (Griffin 1980):
-
-    * stick, ``k a <= F``: stiffness ``k``, no damping -- a stuck contact is a spring, its
-      dissipation exactly zero;
-    * slip, ``beta = arccos(1 - 2 F/(k a))``: stiffness ``k (beta - sin(2 beta)/2)/pi``,
-      dissipation ``4 F (a - F/k)`` per cycle.
-
-    In slip the damping is the Coulomb rule of the parent class (:class:`~fricdamp.contact.
-    equivalent.EllipseFrictionDamping`) times ``1 - F/(k a)``, which is the Jenkins
-    dissipation exactly for a straight orbit and tends to the Coulomb rule as ``k a / F``
-    grows; the stiffness acts isotropically in the contact plane (the stick spring of a 2D
-    Jenkins element is isotropic). As ``k_t -> inf`` this is the parent law.
-
-    Parameters
-    ----------
-    tangential_stiffness : float
-        k_t [N/m], > 0.
-    rotational_stiffness : array_like, shape (n_c,)
-        k_r [N m/rad], > 0.
-    Other parameters as :class:`~fricdamp.contact.equivalent.EllipseFrictionDamping`.
-    """
-
-    def __init__(self, normal_load, friction_coefficient, torque_arm, *,
-                 tangential_stiffness: float, rotational_stiffness, **kwargs):
-        super().__init__(normal_load, friction_coefficient, torque_arm, **kwargs)
-        kt = float(check_positive("tangential_stiffness", tangential_stiffness, unit="N/m"))
-        if kt <= 0:
-            raise ModelError(f"tangential_stiffness must be > 0 N/m, got {kt!r}")
-        kr = np.broadcast_to(np.asarray(rotational_stiffness, float), (self.n_contacts,))
-        if np.any(~np.isfinite(kr)) or np.any(kr <= 0):
-            raise ModelError(f"rotational_stiffness must be > 0 N m/rad, got "
-                             f"{rotational_stiffness!r}")
-        self.tangential_stiffness = kt
-        self.rotational_stiffness = kr.copy()
-
-    def _slip_forces(self, batch_index):
-        fN = self.friction_coefficient * self._load(batch_index)
-        return fN, fN * self.torque_arm
-
-    @staticmethod
-    def _jenkins(amplitude, k, F):
-        """(stiffness, dissipation factor 1 - F/(k a), stuck) of the 1D describing function."""
-        a = np.maximum(amplitude, 1e-300)
-        r = F / (k * a)
-        stuck = r >= 1.0
-        beta = np.arccos(np.clip(1.0 - 2.0 * r, -1.0, 1.0))
-        keq = np.where(stuck, k, k * (beta - 0.5 * np.sin(2.0 * beta)) / np.pi)
-        return keq, np.where(stuck, 0.0, 1.0 - r), stuck
-
-    def _split_amplitudes(self, s):
-        xi, eta, rot = self._split(s)
-        return self.orbits(s).major, np.abs(rot)
-
-    def matrix(self, s, omega, batch_index=None) -> np.ndarray:
-        C = super().matrix(s, omega, batch_index)
-        a, phi = self._split_amplitudes(s)
-        F, M0 = self._slip_forces(batch_index)
-        _, gt, _ = self._jenkins(a, self.tangential_stiffness, F)
-        _, gr, _ = self._jenkins(phi, self.rotational_stiffness, M0)
-        g = np.stack([gt, gt, gr], axis=-1).reshape(gt.shape[:-1] + (self.n_rows,))
-        return C * np.sqrt(g[..., :, None] * g[..., None, :])
-
-    def stiffness(self, s, omega, batch_index=None) -> np.ndarray:
-        """Equivalent stiffness in contact coordinates, shape (..., m, m) [N/m, N m/rad]."""
-        a, phi = self._split_amplitudes(s)
-        F, M0 = self._slip_forces(batch_index)
-        kt, _, _ = self._jenkins(a, self.tangential_stiffness, F)
-        kr, _, _ = self._jenkins(phi, self.rotational_stiffness, M0)
-        d = np.stack([kt, kt, kr], axis=-1).reshape(kt.shape[:-1] + (self.n_rows,))
-        return d[..., :, None] * np.eye(self.n_rows)
-
-    def stuck(self, s, batch_index=None) -> np.ndarray:
-        """True where the translation of a contact sticks (``k_t a <= f N``), (..., n_c)."""
-        F, _ = self._slip_forces(batch_index)
-        return self._jenkins(self.orbits(s).major, self.tangential_stiffness, F)[2]
-
-    def rotation_stuck(self, s, batch_index=None) -> np.ndarray:
-        """True where the rotation about the normal sticks (``k_r phi <= M_0``), (..., n_c)."""
-        _, M0 = self._slip_forces(batch_index)
-        return self._jenkins(np.abs(self._split(s)[2]), self.rotational_stiffness, M0)[2]
 
 
 # ---------------------------------------------------------------------------- builder
