@@ -51,6 +51,8 @@ Petrov & Ewins (2003), J. Turbomach. 125, 364-371 (analytic Jacobians for fricti
 from __future__ import annotations
 
 import logging
+import os
+import sys
 import time
 
 import numpy as np
@@ -273,7 +275,8 @@ def frequency_response(system: MechanicalSystem, omega_start: float, omega_end: 
                        max_points: int = 2000, method: str = "auto", tol: float = 1e-9,
                        initial_guess=None, max_angle_deg: float = 25.0,
                        stability: bool = False, sorting: str = "eigenvector",
-                       blas: int | None = 1, throw: bool = False) -> FrequencyResponse:
+                       blas: int | None = 1, throw: bool = False,
+                       progress: bool | None = None) -> FrequencyResponse:
     """Frequency response curve through resonance by HB-AFT and arclength continuation.
 
     Parameters
@@ -315,6 +318,9 @@ def frequency_response(system: MechanicalSystem, omega_start: float, omega_end: 
         BLAS threads (default 1: faster for these small factorisations).
     throw : bool
         Raise ConvergenceError if the curve could not be completed.
+    progress : bool, optional
+        Show a tqdm progress bar of the continuation (share of the interval covered,
+        points, current Omega); default: only when stderr is a terminal and outside CI.
 
     Returns
     -------
@@ -344,7 +350,7 @@ def frequency_response(system: MechanicalSystem, omega_start: float, omega_end: 
         raise ModelError("omega_start and omega_end must differ")
     out = _curve(system, harmonics, samples, method, "omega", omega_start, omega_end,
                  omega_start, 1.0, step, min_step, max_step, max_points, tol, initial_guess,
-                 max_angle_deg, blas, stability, sorting)
+                 max_angle_deg, blas, stability, sorting, progress)
     if throw and not out.success:
         raise ConvergenceError(f"frequency response incomplete: {out.message}")
     return out
@@ -357,7 +363,7 @@ def load_response(system: MechanicalSystem, omega: float, scale_start: float,
                   method: str = "auto", tol: float = 1e-9, initial_guess=None,
                   max_angle_deg: float = 25.0, stability: bool = False,
                   sorting: str = "eigenvector", blas: int | None = 1,
-                  throw: bool = False) -> FrequencyResponse:
+                  throw: bool = False, progress: bool | None = None) -> FrequencyResponse:
     """Steady response vs excitation level at fixed frequency (continuation in the load).
 
     The harmonic loads (harmonics k >= 1) are multiplied by the continued factor
@@ -381,16 +387,68 @@ def load_response(system: MechanicalSystem, omega: float, scale_start: float,
         raise ModelError("scale_start and scale_end must differ")
     out = _curve(system, harmonics, samples, method, "load", scale_start, scale_end,
                  float(omega), scale_start, step, min_step, max_step, max_points, tol,
-                 initial_guess, max_angle_deg, blas, stability, sorting)
+                 initial_guess, max_angle_deg, blas, stability, sorting, progress)
     if throw and not out.success:
         raise ConvergenceError(f"load response incomplete: {out.message}")
     return out
 
 
+def _progress_default() -> bool:
+    return bool(sys.stderr.isatty()) and not os.environ.get("CI")
+
+
+class _Progress:
+    """tqdm bar of a continuation: the share of [lam0, lam1] covered so far (it does not
+    go back at turning points), the points and the current parameter. tqdm is imported
+    only when the bar is shown."""
+
+    def __init__(self, lam0, lam1, name):
+        from tqdm.auto import tqdm
+
+        self.lam0, self.span, self.name = lam0, lam1 - lam0, name
+        self.points = 0
+        self.bar = tqdm(total=100, desc="HB continuation", unit="%", leave=False,
+                        file=sys.stderr, bar_format="{desc}: {percentage:3.0f}%|{bar}| "
+                        "[{elapsed}<{remaining}{postfix}]")
+
+    def __call__(self, x, lam, points=None):
+        self.points = self.points + 1 if points is None else points
+        done = int(100 * min(max((lam - self.lam0) / self.span, 0.0), 1.0))
+        if done > self.bar.n:
+            self.bar.update(done - self.bar.n)
+        self.bar.set_postfix_str(f"{self.points} points, {self.name} = {lam:.6g}",
+                                 refresh=False)
+        return False
+
+    def close(self, out=None):
+        if out is not None and out.n_points:      # the final state, shown once
+            lam = out.omega[-1] if out.parameter == "omega" else out.load_scale[-1]
+            self(None, float(lam), out.n_points)
+            self.bar.refresh()
+        self.bar.close()
+
+
 def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0, step,
            min_step, max_step, max_points, tol, initial_guess, max_angle_deg, blas,
-           stability=False, sorting="eigenvector"):
+           stability=False, sorting="eigenvector", progress=None):
     """Continue the HB solution in Omega (param "omega") or in the load scale ("load")."""
+    show = _progress_default() if progress is None else bool(progress)
+    bar = _Progress(lam0, lam1, "Omega" if param == "omega" else "load scale") if show \
+        else None
+    out = None
+    try:
+        out = _curve_run(system, harmonics, samples, method, param, lam0, lam1, omega0,
+                         scale0, step, min_step, max_step, max_points, tol, initial_guess,
+                         max_angle_deg, blas, stability, sorting, bar)
+        return out
+    finally:
+        if bar is not None:
+            bar.close(out)
+
+
+def _curve_run(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0, step,
+               min_step, max_step, max_points, tol, initial_guess, max_angle_deg, blas,
+               stability, sorting, bar):
     if sorting not in ("eigenvector", "imaginary"):
         raise ModelError(f"sorting must be 'eigenvector' or 'imaginary', got {sorting!r}")
     _check_size(system, harmonics, samples)
@@ -446,7 +504,8 @@ def _curve(system, harmonics, samples, method, param, lam0, lam1, omega0, scale0
             ds_max=max_step if max_step is not None else 5.0 * step,
             x_scale=1.0, lam_scale=abs(lam1 - lam0), tol=tol,
             max_steps=max_points, max_angle_deg=max_angle_deg, test_functions=stability,
-            reuse_factorization=REUSE_FACTORIZATION, blas=None, block_size=_block_size(form))
+            reuse_factorization=REUSE_FACTORIZATION, blas=None, block_size=_block_size(form),
+            callback=bar)
         n_p = cres.n_points
         omegas = cres.lam if param == "omega" else np.full(n_p, omega0)
         scales = np.ones(n_p) if param == "omega" else cres.lam.copy()
