@@ -5,12 +5,18 @@ elements pointing at the PNG files written next to it, so the folder can be zipp
 or served as is. Numbers come from the run's summary (the same dict as ``summary.json``):
 scalars go into a key-number table, lists of equal length (damping ratio vs amplitude, ...)
 into a column table, per-contact dicts into a table with one row per contact.
+
+Presentation rules: engineering results come first in every table, solver diagnostics
+(energy balance, iterations, counters, run times) after them; damping ratios are shown in %
+(as in the figures); in a list or a column, values below ``1e-12`` of the largest are
+round-off and shown as 0 (a closed-form zero computed as 1.7e-21).
 """
 
 from __future__ import annotations
 
 import html
 import math
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -79,8 +85,64 @@ def _esc(x) -> str:
     return html.escape(str(x), quote=True)
 
 
-def label(key: str) -> str:
-    """``"amplitude_m"`` -> ``"amplitude [m]"``; ``"energy_balance_error"`` -> words."""
+#: Keys holding a damping ratio (a fraction in summary.json, shown in % like the figures).
+_PERCENT = re.compile(r"(^|_)(damping_ratios?|zeta)(_|$)")
+
+#: Keys of solver diagnostics, listed after the engineering results.
+_DIAGNOSTIC = re.compile(
+    r"(energy_balance|error|residual|iteration|newton|^n_(?!dof|mode|contact|sector|node)|_count$|runtime|wall_time|cpu_s|"
+    r"setup_s|^status|message|method|^harmonics$|^samples$|steps|evaluations|"
+    r"factori[sz]ations|restarts|converged|verdict|tolerance|^tol$)")
+
+#: Relative size below which an entry of a list is round-off of a zero.
+_ROUNDOFF = 1e-12
+
+
+def _is_percent(key: str) -> bool:
+    return bool(_PERCENT.search(key))
+
+
+def _is_diagnostic(key: str) -> bool:
+    return bool(_DIAGNOSTIC.search(key))
+
+
+def _engineering_first(keys: Sequence[str]) -> list[str]:
+    """Engineering results first, solver diagnostics after (order kept within each)."""
+    return ([k for k in keys if not _is_diagnostic(k)]
+            + [k for k in keys if _is_diagnostic(k)])
+
+
+def _scaled(key: str, v):
+    """A damping ratio in %; other values unchanged (lists element-wise)."""
+    if not _is_percent(key) or not _numeric(v):
+        return v
+    if isinstance(v, (list, tuple)):
+        return [100.0 * x if _is_num(x) and x is not None else x for x in v]
+    if _is_num(v) and v is not None:
+        return 100.0 * v
+    return v
+
+
+def _clean(values: Sequence) -> list:
+    """Entries below _ROUNDOFF of the largest |entry| set to 0 (round-off of a zero)."""
+    finite = [abs(x) for x in values if _is_num(x) and x is not None
+              and math.isfinite(float(x))]
+    big = max(finite, default=0.0)
+    if big == 0:
+        return list(values)
+    return [0 if (_is_num(x) and x is not None and isinstance(x, float)
+                  and abs(x) < _ROUNDOFF * big) else x for x in values]
+
+
+def _numeric(v) -> bool:
+    return _is_num(v) or _is_numlist(v)
+
+
+def label(key: str, value=0.0) -> str:
+    """``"amplitude_m"`` -> ``"amplitude [m]"``; ``"energy_balance_error"`` -> words;
+    a damping ratio (a number or list of numbers) -> ``"damping ratio [%]"``."""
+    if _is_percent(key) and _numeric(value):
+        return f"{key.replace('_', ' ')} [%]"
     unit = unit_of(key)
     base = key
     if unit:
@@ -116,7 +178,7 @@ def _is_numlist(v) -> bool:
 
 
 def _inline_list(v: Sequence) -> str:
-    items = [_num(x) if _is_num(x) else str(x) for x in v]
+    items = [_num(x) if _is_num(x) else str(x) for x in _clean(v)]
     if len(items) > _INLINE:
         items = items[:4] + ["…"] + items[-2:]
         return "[" + ", ".join(items) + f"] ({len(v)} values)"
@@ -157,11 +219,12 @@ def _rows(first_column: Sequence) -> list[int]:
 def _dict_table(key: str, items: Mapping[str, Mapping]) -> str:
     """One row per item (contact), one column per key of the items."""
     cols = list(dict.fromkeys(c for x in items.values() for c in x))
-    out = [f"<h3>{_esc(label(key))}</h3><table><tr><th>name</th>"
+    cols = _engineering_first(cols)
+    out = [f"<h3>{_esc(label(key, items))}</h3><table><tr><th>name</th>"
            + "".join(f"<th>{_esc(label(c))}</th>" for c in cols) + "</tr>"]
     for name, x in items.items():
         out.append(f"<tr><td>{_esc(name)}</td>" + "".join(
-            f'<td class="num">{_cell(x.get(c))}</td>' for c in cols) + "</tr>")
+            f'<td class="num">{_cell(_scaled(c, x.get(c)))}</td>' for c in cols) + "</tr>")
     out.append("</table>")
     return "".join(out)
 
@@ -182,30 +245,34 @@ def _section_tables(section: Mapping) -> str:
             scalars.append(keys[0])
             del groups[n]
     out = []
+    scalars = _engineering_first(scalars)
     if scalars:
         out.append("<table><tr><th>quantity</th><th>value</th></tr>")
         for key in scalars:
-            v = section[key]
+            v = _scaled(key, section[key])
             cls = ' class="num"' if _is_num(v) else ""
-            out.append(f"<tr><td>{_esc(label(key))}</td><td{cls}>{_cell(v)}</td></tr>")
+            out.append(f"<tr><td>{_esc(label(key, section[key]))}</td><td{cls}>{_cell(v)}"
+                       "</td></tr>")
         out.append("</table>")
     for n, keys in groups.items():
         rows = _rows(section[keys[0]])
+        keys = [keys[0], *_engineering_first(keys[1:])]
+        cols = {k: _clean(_scaled(k, section[k])) for k in keys}
         out.append("<table><tr>" + "".join(f"<th>{_esc(label(k))}</th>" for k in keys)
                    + "</tr>")
         for i in rows:
-            out.append("<tr>" + "".join(f'<td class="num">{_esc(_num(section[k][i]))}</td>'
+            out.append("<tr>" + "".join(f'<td class="num">{_esc(_num(cols[k][i]))}</td>'
                                         for k in keys) + "</tr>")
         out.append("</table>")
         if len(rows) < n:
             out.append(f'<p class="small">{len(rows)} of {n} rows shown; all are in '
                        "summary.json and the results file.</p>")
-    for key in dicts:
+    for key in _engineering_first(dicts):
         v = section[key]
         if all(isinstance(x, Mapping) for x in v.values()):
             out.append(_dict_table(key, v))
         else:
-            out.append(f"<h3>{_esc(label(key))}</h3>" + _section_tables(v))
+            out.append(f"<h3>{_esc(label(key, v))}</h3>" + _section_tables(v))
     return "\n".join(out)
 
 
@@ -252,10 +319,9 @@ def render_report(*, summary: Mapping, case_text: str,
         parts.append(f'<p class="note">{_esc(note)}</p>')
 
     parts.append("<h2>Key numbers</h2>")
-    overview = {"energy_balance_error": summary.get("energy_balance_error")}
     model = dict(summary.get("model", {}))
     contacts = model.pop("contacts", [])
-    overview.update(model)
+    overview = {**model, "energy_balance_error": summary.get("energy_balance_error")}
     parts.append(_section_tables(overview))
     if contacts:
         parts.append(_dict_table("contacts", {c["name"]: {k: v for k, v in c.items()

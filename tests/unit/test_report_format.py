@@ -1,0 +1,38 @@
+"""Report tables: engineering results before solver diagnostics, damping ratios in % (as in
+the figures), round-off of a zero shown as 0."""
+
+from __future__ import annotations
+
+import re
+
+from fricdamp.report import render_report
+
+SUMMARY = {
+    "case": {"name": "x", "analysis": {"free_decay": {}}},
+    "energy_balance_error": 1e-9,
+    "model": {"n_dof": 2, "natural_frequencies_stuck_hz": [1.0, 2.0]},
+    "free_decay": {
+        "energy_balance_error": 1e-8, "n_steps": 100, "mean_damping_ratio": 0.0123,
+        "damping_ratio_definition": "log decrement",
+        "amplitude_m": [1e-3, 5e-4, 2e-4, 1e-4], "damping_ratio": [0.01, 0.012, 0.013, 0.014],
+        "contact_work_J": [1.0, 1.694e-21, 0.5, 0.2]},
+}
+
+
+def _text(html: str) -> str:
+    return re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+
+
+def test_engineering_first_percent_and_roundoff():
+    text = _text(render_report(summary=SUMMARY, case_text="", figures={}))
+    key = text[text.index("Key numbers"):text.index("Free decay")]
+    # the model before the solver's energy balance
+    assert key.index("natural frequencies stuck [Hz]") < key.index("energy balance error")
+    assert key.index("n dof") < key.index("energy balance error")
+    decay = text[text.index("Free decay"):]
+    assert decay.index("mean damping ratio [%] 1.23 ") < decay.index("energy balance error")
+    assert decay.index("damping ratio definition log decrement") < decay.index("n steps")
+    assert "damping ratio definition [%]" not in decay        # a text, not a ratio
+    # the column table: ratios in %, the round-off of a zero as 0
+    assert "damping ratio [%]" in decay and " 1.2 " in decay and " 1.4 " in decay
+    assert "e-21" not in decay and " 0.0005 1.2 0 " in decay
