@@ -90,12 +90,23 @@ def time_histories(t, q, names: Sequence[str], *, title: str = "",
 
 
 def damping_vs_amplitude(amplitude, damping_ratio, frequency_hz, *, title: str = "",
-                         unit: str = "m") -> Figure:
-    """Damping ratio [%] and frequency [Hz] against amplitude, one point per decay cycle."""
+                         unit: str = "m", log_amplitude: bool | None = None) -> Figure:
+    """Damping ratio [%] and frequency [Hz] against amplitude, one point per decay cycle
+    (or per amplitude of a nonlinear mode).
+
+    ``log_amplitude``: a logarithmic amplitude axis; by default when the (positive)
+    amplitudes span more than a decade, so that micro-slip at small amplitude shows.
+    """
     amplitude = np.asarray(amplitude, float)
     fac, lab = si_scale(amplitude, unit)
     fig, axes = new_figure(1, 2, width=9.0, height=3.6, title=title)
     ax1, ax2 = axes[0]
+    if log_amplitude is None:
+        pos = amplitude[np.isfinite(amplitude)]
+        log_amplitude = bool(pos.size > 1 and np.all(pos > 0) and pos.max() > 10 * pos.min())
+    if log_amplitude:
+        ax1.set_xscale("log")
+        ax2.set_xscale("log")
     ax1.plot(amplitude / fac, 100 * np.asarray(damping_ratio), "o-", ms=3, lw=1)
     ax1.set_xlabel(f"amplitude [{lab}]")
     ax1.set_ylabel("damping ratio [%]")

@@ -36,3 +36,18 @@ def test_engineering_first_percent_and_roundoff():
     # the column table: ratios in %, the round-off of a zero as 0
     assert "damping ratio [%]" in decay and " 1.2 " in decay and " 1.4 " in decay
     assert "e-21" not in decay and " 0.0005 1.2 0 " in decay
+
+
+def test_damping_vs_amplitude_uses_a_log_axis_over_decades():
+    """Amplitudes over three decades (a nonlinear mode from micro-slip to gross slip): log
+    amplitude axis; over a factor 2 (a short decay): linear."""
+    import numpy as np
+
+    from fricdamp import plot
+
+    zeta, f = np.linspace(0.01, 0.1, 10), np.linspace(100.0, 90.0, 10)
+    fig = plot.damping_vs_amplitude(np.geomspace(1e-6, 1e-3, 10), zeta, f)
+    assert [ax.get_xscale() for ax in fig.axes] == ["log", "log"]
+    fig = plot.damping_vs_amplitude(np.linspace(1e-3, 2e-3, 10), zeta, f)
+    assert fig.axes[0].get_xscale() == "linear"
+    assert fig.axes[0].get_ylabel() == "damping ratio [%]"
