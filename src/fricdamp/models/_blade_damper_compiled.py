@@ -19,8 +19,19 @@ numba kernels:
   :meth:`fricdamp.solvers.event_switch.Evaluator.solve` and
   :meth:`fricdamp.solvers.event_phase.NumericalPhase._g`.
 
-A configuration whose constraint matrix is (numerically) singular returns status 1 and the
-caller falls back to the generic path (minimum-norm multipliers).
+* whole DOP853 phases (generated with the rest, ``phase_run``): SciPy's DOP853 step-size
+  control, initial step and dense output re-coded step for step, each step's dense output
+  kept as arrays and its event functions screened at its quarter points (as
+  :meth:`~fricdamp.solvers.event_phase.NumericalPhase.advance` does); only a step whose
+  samples change sign goes back to Python (:func:`~fricdamp.solvers.event_phase.first_event`),
+  whose root refinement is SciPy's ``brentq`` re-coded on the step's dense output
+  (``refine_root``); and the projection onto the constraints (``project``). The
+  Runge-Kutta sums run in another order than SciPy's BLAS products, so the step sequence
+  differs by round-off and the responses agree to the integration accuracy
+  (``tests/unit/test_blade_damper_fused.py``).
+
+A configuration whose constraint matrix is (numerically) singular returns status 1 (4 from
+``phase_run``) and the caller falls back to the generic path (minimum-norm multipliers).
 
 The generic path stays the reference: ``tests/unit/test_blade_damper_compiled.py`` compares
 both on random states and all configurations to 1e-12.
@@ -342,6 +353,451 @@ def events_many(ts, Y, modes, sigma, par, kinds, contacts, lim, sgn, G, S, vel):
     return worst
 '''
 
+_PHASE_SRC = '''
+
+from scipy.integrate._ivp import dop853_coefficients as _dc
+
+from fricdamp.models._blade_damper_compiled import _MINV, STICK, _lu_solve
+
+_NS = 12
+_DA = np.ascontiguousarray(_dc.A, dtype=np.float64)
+_DB = np.ascontiguousarray(_dc.B, dtype=np.float64)
+_DC = np.ascontiguousarray(_dc.C, dtype=np.float64)
+_DE3 = np.ascontiguousarray(_dc.E3, dtype=np.float64)
+_DE5 = np.ascontiguousarray(_dc.E5, dtype=np.float64)
+_DD = np.ascontiguousarray(_dc.D, dtype=np.float64)
+_NY = 17
+
+
+@njit(cache=True)
+def _stage_y(y, K, a_row, s, h, out):
+    for k in range(_NY):
+        acc = 0.0
+        for j in range(s):
+            acc += K[j, k] * a_row[j]
+        out[k] = y[k] + acc * h
+
+
+@njit(cache=True)
+def dense_eval(t_old, h, y_old, F, t, out):
+    """DOP853 dense output of one step at t (scipy's Dop853DenseOutput)."""
+    x = (t - t_old) / h
+    for k in range(out.size):
+        out[k] = 0.0
+    for i in range(7):
+        f = F[6 - i]
+        for k in range(out.size):
+            out[k] += f[k]
+            if i % 2 == 0:
+                out[k] *= x
+            else:
+                out[k] *= 1.0 - x
+    for k in range(out.size):
+        out[k] += y_old[k]
+
+
+@njit(cache=True)
+def dense_many(TA, TB, YOLD, FF, idx, ts, Y):
+    """Dense output at ts (segment idx[j] for ts[j]) into the columns of Y (17, n)."""
+    out = np.empty(_NY)
+    for j in range(ts.size):
+        m = idx[j]
+        dense_eval(TA[m], TB[m] - TA[m], YOLD[m], FF[m], ts[j], out)
+        for k in range(_NY):
+            Y[k, j] = out[k]
+
+
+@njit(cache=True)
+def _norm_err(K, h, scale):
+    e5 = 0.0
+    e3 = 0.0
+    for k in range(_NY):
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(13):
+            a5 += K[j, k] * _DE5[j]
+            a3 += K[j, k] * _DE3[j]
+        a5 /= scale[k]
+        a3 /= scale[k]
+        e5 += a5 * a5
+        e3 += a3 * a3
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    denom = e5 + 0.01 * e3
+    return abs(h) * e5 / np.sqrt(denom * _NY)
+
+
+@njit(cache=True)
+def _rms(x, scale):
+    s = 0.0
+    for k in range(_NY):
+        v = x[k] / scale[k]
+        s += v * v
+    return np.sqrt(s / _NY)
+
+
+@njit(cache=True)
+def _g_at(t, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sgn, vel,
+          tol_i, ytmp, g, s):
+    dense_eval(TA[j], TB[j] - TA[j], YOLD[j], FF[j], t, ytmp)
+    q = ytmp[:7]
+    qd = ytmp[7:14]
+    gap = np.empty(2)
+    WN = np.empty((7, 2))
+    WT = np.empty((7, 2))
+    wbN = np.empty(2)
+    wbT = np.empty(2)
+    hh = np.empty(7)
+    qdd = np.empty(7)
+    lamN = np.empty(2)
+    lamT = np.empty(2)
+    _kin_state(q, qd, par, gap, WN, WT, wbN, wbT)
+    forces(t, q, qd, par, hh)
+    configuration_solve(hh, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT)
+    event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel)
+    return g[i] + tol_i
+
+
+@njit(cache=True)
+def refine_root(j, i, ta, tb, h_scale, tol_i, TA, TB, YOLD, FF, modes, sigma, par, kinds,
+                contacts, lim, sgn, vel):
+    """Root of event function i (plus its round-off level tol_i) in (ta, tb] of step j:
+    :func:`fricdamp.solvers.event_phase._refine` with SciPy's ``brentq`` (brentq.c) on the
+    step's dense output; returns a time where the function is <= 0."""
+    eps = 2.220446049250313e-16
+    ytmp = np.empty(_NY)
+    g = np.empty(kinds.size)
+    s = np.empty(kinds.size)
+    xtol = 4 * eps * max(abs(ta), abs(tb), h_scale)
+    if tb - ta <= xtol:
+        return tb
+    fa = _g_at(ta, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sgn, vel,
+               tol_i, ytmp, g, s)
+    fb = _g_at(tb, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sgn, vel,
+               tol_i, ytmp, g, s)
+    if fb > 0 or fa <= 0:
+        return tb if fb > 0 else ta
+    rtol = 4 * eps
+    xpre, xcur = ta, tb
+    fpre, fcur = fa, fb
+    xblk, fblk, spre, scur = 0.0, 0.0, 0.0, 0.0
+    r = xcur
+    if fpre == 0:
+        r = xpre
+    elif fcur == 0:
+        r = xcur
+    else:
+        for _ in range(200):
+            if fpre != 0 and fcur != 0 and (np.signbit(fpre) != np.signbit(fcur)):
+                xblk = xpre
+                fblk = fpre
+                spre = scur = xcur - xpre
+            if abs(fblk) < abs(fcur):
+                xpre = xcur
+                xcur = xblk
+                xblk = xpre
+                fpre = fcur
+                fcur = fblk
+                fblk = fpre
+            delta = (xtol + rtol * abs(xcur)) / 2
+            sbis = (xblk - xcur) / 2
+            if fcur == 0 or abs(sbis) < delta:
+                break
+            if abs(spre) > delta and abs(fcur) < abs(fpre):
+                if xpre == xblk:
+                    stry = -fcur * (xcur - xpre) / (fcur - fpre)
+                else:
+                    dpre = (fpre - fcur) / (xpre - xcur)
+                    dblk = (fblk - fcur) / (xblk - xcur)
+                    stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+                if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):
+                    spre = scur
+                    scur = stry
+                else:
+                    spre = sbis
+                    scur = sbis
+            else:
+                spre = sbis
+                scur = sbis
+            xpre = xcur
+            fpre = fcur
+            if abs(scur) > delta:
+                xcur += scur
+            else:
+                xcur += delta if sbis > 0 else -delta
+            fcur = _g_at(xcur, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts,
+                         lim, sgn, vel, tol_i, ytmp, g, s)
+        r = xcur
+    step = xtol
+    while r < tb and _g_at(r, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
+                           sgn, vel, tol_i, ytmp, g, s) > 0:
+        r = min(tb, r + step)
+        step *= 2
+    return r
+
+
+@njit(cache=True)
+def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, contacts, lim,
+              sgn, g_prev, scale, vel, TA, TB, YOLD, FF, m, GI, stats):
+    """DOP853 steps of one configuration (scipy's DOP853 step-size control and dense output),
+    each step screened for events at the quarter points of its dense output.
+
+    State in/out: ``y`` (17), ``f`` (17, rhs at y), ``stats`` = [t, h_abs, n_rhs, first]
+    (``h_abs <= 0``: start of the phase, f is evaluated and the initial step chosen as scipy
+    does; ``first`` != 0: the samples before the next step are the phase start). Steps are
+    appended to TA/TB/YOLD/FF from index m. Returns (status, m): 0 reached t_end, 1 the last
+    step may hold an event (its four samples in GI, the samples before in g_prev on entry),
+    2 buffers full, 3 step size too small, 4 singular constraint system (generic path).
+    """
+    nev = kinds.size
+    K = np.empty((16, _NY))
+    ynew = np.empty(_NY)
+    ytmp = np.empty(_NY)
+    sc = np.empty(_NY)
+    out = np.empty(_NY)
+    gap = np.empty(2)
+    WN = np.empty((7, 2))
+    WT = np.empty((7, 2))
+    wbN = np.empty(2)
+    wbT = np.empty(2)
+    hh = np.empty(7)
+    qdd = np.empty(7)
+    lamN = np.empty(2)
+    lamT = np.empty(2)
+    g = np.empty(nev)
+    s = np.empty(nev)
+    n_rhs = 0
+    err_exp = -1.0 / 8.0
+    t = stats[0]
+    h_abs = stats[1]
+    first = stats[3] != 0.0
+    if h_abs <= 0.0:
+        if rhs(t, y, modes, sigma, par, f) <= 1e-13:
+            return 4, m
+        n_rhs += 1
+        # scipy.integrate._ivp.common.select_initial_step
+        interval = abs(t_end - t)
+        for k in range(_NY):
+            sc[k] = atol[k] + abs(y[k]) * rtol
+        d0 = _rms(y, sc)
+        d1 = _rms(f, sc)
+        if d0 < 1e-5 or d1 < 1e-5:
+            h0 = 1e-6
+        else:
+            h0 = 0.01 * d0 / d1
+        h0 = min(h0, interval)
+        for k in range(_NY):
+            ytmp[k] = y[k] + h0 * f[k]
+        if rhs(t + h0, ytmp, modes, sigma, par, out) <= 1e-13:
+            return 4, m
+        n_rhs += 1
+        for k in range(_NY):
+            ynew[k] = (out[k] - f[k])
+        d2 = _rms(ynew, sc) / h0
+        if d1 <= 1e-15 and d2 <= 1e-15:
+            h1 = max(1e-6, h0 * 1e-3)
+        else:
+            h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+        h_abs = min(100 * h0, h1, interval, max_step)
+    while True:
+        if m >= TA.size:
+            stats[0] = t
+            stats[1] = h_abs
+            stats[2] += n_rhs
+            return 2, m
+        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+        if h_abs > max_step:
+            h_abs = max_step
+        elif h_abs < min_step:
+            h_abs = min_step
+        rejected = False
+        while True:
+            if h_abs < min_step:
+                stats[0] = t
+                stats[2] += n_rhs
+                return 3, m
+            t_new = t + h_abs
+            if t_new - t_end > 0:
+                t_new = t_end
+            h = t_new - t
+            h_abs = abs(h)
+            for k in range(_NY):
+                K[0, k] = f[k]
+            for st in range(1, _NS):
+                _stage_y(y, K, _DA[st], st, h, ytmp)
+                if rhs(t + _DC[st] * h, ytmp, modes, sigma, par, out) <= 1e-13:
+                    return 4, m
+                for k in range(_NY):
+                    K[st, k] = out[k]
+            for k in range(_NY):
+                acc = 0.0
+                for j in range(_NS):
+                    acc += K[j, k] * _DB[j]
+                ynew[k] = y[k] + h * acc
+            if rhs(t + h, ynew, modes, sigma, par, out) <= 1e-13:
+                return 4, m
+            for k in range(_NY):
+                K[12, k] = out[k]
+            n_rhs += 12
+            for k in range(_NY):
+                sc[k] = atol[k] + max(abs(y[k]), abs(ynew[k])) * rtol
+            en = _norm_err(K, h, sc)
+            if en < 1.0:
+                if en == 0.0:
+                    factor = 10.0
+                else:
+                    factor = min(10.0, 0.9 * en ** err_exp)
+                if rejected:
+                    factor = min(1.0, factor)
+                h_abs *= factor
+                break
+            h_abs *= max(0.2, 0.9 * en ** err_exp)
+            rejected = True
+        # dense output of the accepted step (three extra stages)
+        for st in range(13, 16):
+            _stage_y(y, K, _DA[st], st, h, ytmp)
+            if rhs(t + _DC[st] * h, ytmp, modes, sigma, par, out) <= 1e-13:
+                return 4, m
+            for k in range(_NY):
+                K[st, k] = out[k]
+        n_rhs += 3
+        Fm = FF[m]
+        for k in range(_NY):
+            dy = ynew[k] - y[k]
+            Fm[0, k] = dy
+            Fm[1, k] = h * K[0, k] - dy
+            Fm[2, k] = 2.0 * dy - h * (K[12, k] + K[0, k])
+            for r in range(4):
+                acc = 0.0
+                for j in range(16):
+                    acc += _DD[r, j] * K[j, k]
+                Fm[3 + r, k] = h * acc
+            YOLD[m, k] = y[k]
+        TA[m] = t
+        TB[m] = t_new
+        m += 1
+        for k in range(_NY):
+            y[k] = ynew[k]
+            f[k] = K[12, k]
+        t_old = t
+        t = t_new
+        # event screening at the quarter points (NumericalPhase.advance / first_event)
+        flag = False
+        if nev > 0:
+            for c in range(4):
+                tc = t_old + h * 0.25 * (c + 1)
+                dense_eval(t_old, h, YOLD[m - 1], Fm, tc, ytmp)
+                q = ytmp[:7]
+                qd = ytmp[7:14]
+                _kin_state(q, qd, par, gap, WN, WT, wbN, wbT)
+                forces(tc, q, qd, par, hh)
+                if configuration_solve(hh, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN,
+                                       lamT) <= 1e-13:
+                    return 4, m
+                event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel)
+                for e in range(nev):
+                    GI[e, c] = g[e]
+                    scale[e] = max(scale[e], s[e])
+            for e in range(nev):
+                tol = 1e2 * 2.220446049250313e-16 * scale[e] + 2.2250738585072014e-308
+                if first and g_prev[e] + tol <= 0.0:
+                    flag = True
+                prev = g_prev[e] + tol
+                for c in range(4):
+                    cur = GI[e, c] + tol
+                    if prev > 0.0 and cur <= 0.0:
+                        flag = True
+                    prev = cur
+        stats[0] = t
+        stats[1] = h_abs
+        if flag:
+            stats[2] += n_rhs
+            return 1, m
+        first = False
+        stats[3] = 0.0
+        for e in range(nev):
+            g_prev[e] = GI[e, 3]
+        if t == t_end:
+            stats[2] += n_rhs
+            return 0, m
+
+
+@njit(cache=True)
+def project(q, qd, modes, par, q_out, qd_out):
+    """:meth:`fricdamp.solvers.event_switch.Evaluator.project` for the blade damper: Gauss-Newton
+    (M-weighted) on the two closed normal gaps, then the M-orthogonal projection of q' onto
+    ``W_N^T q' = 0`` and the stuck contacts' ``W_T^T q' = 0``. Returns (pivot ratio,
+    |kinetic energy change|); a ratio <= 1e-13 means use the generic path."""
+    gap = np.empty(2)
+    WN = np.empty((7, 2))
+    WT = np.empty((7, 2))
+    wbN = np.empty(2)
+    wbT = np.empty(2)
+    A = np.zeros((4, 4))
+    x = np.empty(4)
+    W = np.empty((7, 4))
+    for k in range(7):
+        q_out[k] = q[k]
+    qmax = 0.0
+    for _ in range(5):
+        _kin_state(q_out, qd, par, gap, WN, WT, wbN, wbT)
+        if _ == 0:
+            for k in range(7):
+                qmax = max(qmax, abs(q_out[k]))
+        else:
+            qmax = 0.0
+            for k in range(7):
+                qmax = max(qmax, abs(q_out[k]))
+        if abs(gap[0]) <= 1e-15 * (1 + qmax) and abs(gap[1]) <= 1e-15 * (1 + qmax):
+            break
+        for a in range(2):
+            x[a] = gap[a]
+            for b in range(2):
+                acc = 0.0
+                for k in range(7):
+                    acc += WN[k, a] * par[_MINV + k] * WN[k, b]
+                A[a, b] = acc
+        if _lu_solve(A, x, 2) <= 1e-13:
+            return 0.0, 0.0
+        for k in range(7):
+            q_out[k] -= par[_MINV + k] * (WN[k, 0] * x[0] + WN[k, 1] * x[1])
+    _kin_state(q_out, qd, par, gap, WN, WT, wbN, wbT)
+    m = 0
+    for i in range(2):
+        for k in range(7):
+            W[k, m] = WN[k, i]
+        m += 1
+    for i in range(2):
+        if modes[i] == STICK:
+            for k in range(7):
+                W[k, m] = WT[k, i]
+            m += 1
+    for a in range(m):
+        acc = 0.0
+        for k in range(7):
+            acc += W[k, a] * qd[k]
+        x[a] = acc
+        for b in range(m):
+            acc = 0.0
+            for k in range(7):
+                acc += W[k, a] * par[_MINV + k] * W[k, b]
+            A[a, b] = acc
+    ratio = _lu_solve(A, x, m)
+    if ratio <= 1e-13:
+        return ratio, 0.0
+    e0 = 0.0
+    e1 = 0.0
+    for k in range(7):
+        corr = 0.0
+        for b in range(m):
+            corr += W[k, b] * x[b]
+        qd_out[k] = qd[k] - par[_MINV + k] * corr
+        e0 += qd[k] * qd[k] / par[_MINV + k]
+        e1 += qd_out[k] * qd_out[k] / par[_MINV + k]
+    return ratio, abs(0.5 * e0 - 0.5 * e1)
+
+'''
+
 
 def _cache_dir() -> Path:
     env = os.environ.get("FRICDAMP_CACHE_DIR")
@@ -393,7 +849,7 @@ def kinematics_source(contour: str) -> str:
             "q1", "q3", "q5", "xS", "yS", "u5", "gamma", "p1", "p2"}:
         raise RuntimeError("the sympy symbols of the kinematics changed their names")
     body = "\n".join(lines)
-    return head + body + "\n" + _FUSED.format(g=_GAMMA, p1=_P1, p2=_P2)
+    return head + body + "\n" + _FUSED.format(g=_GAMMA, p1=_P1, p2=_P2) + _PHASE_SRC
 
 
 @functools.cache
@@ -431,6 +887,8 @@ class BladeDamperKernels:
         self.par = parameter_vector(system)
         self.mod = compiled_module(system.params.contour)
         self.n = 7
+        #: NumericalPhase takes whole steps through :meth:`phase_run`
+        self.fused_phases = bool(getattr(system, "compiled_phases", True))
 
     def kinematics(self, q, u5=0.0):
         """``(gap (2,), W_N (7, 2), W_T (7, 2), wbar_N (2,), wbar_T (2,))`` at q, q5' = u5."""
@@ -459,6 +917,35 @@ class BladeDamperKernels:
         WT = np.empty((7, 2, nt))
         r = self.mod.solve_many(ts, Y, modes, sigma, self.par, QDD, LN, LT, WT)
         return r, QDD, LN, LT, WT
+
+    def phase_run(self, y, f, t_end, modes, sigma, rtol, atol, max_step, kinds, contacts,
+                  lim, sgn, g_prev, scale, vel, TA, TB, YOLD, FF, m, GI, stats):
+        """DOP853 steps of one phase with event screening (see the generated ``phase_run``);
+        returns ``(status, m)``."""
+        return self.mod.phase_run(y, f, float(t_end), modes, sigma, self.par, float(rtol),
+                                  atol, float(max_step), kinds, contacts, lim, sgn, g_prev,
+                                  scale, vel, TA, TB, YOLD, FF, int(m), GI, stats)
+
+    def project(self, q, qd, modes):
+        """Compiled :meth:`Evaluator.project` (both normals closed): ``(ok, q, qd, dE)``."""
+        q_out, qd_out = np.empty(7), np.empty(7)
+        r, de = self.mod.project(np.ascontiguousarray(q, dtype=float),
+                        np.ascontiguousarray(qd, dtype=float),
+                        np.ascontiguousarray(modes, dtype=np.int64), self.par, q_out, qd_out)
+        return r > self.SINGULAR, q_out, qd_out, de
+
+    def refine_root(self, j, i, ta, tb, h_scale, tol_i, TA, TB, YOLD, FF, modes, sigma, kinds,
+                    contacts, lim, sgn, vel):
+        """Root of event function i in (ta, tb] of stored step j (see ``refine_root``)."""
+        return self.mod.refine_root(int(j), int(i), float(ta), float(tb), float(h_scale),
+                                    float(tol_i), TA, TB, YOLD, FF, modes, sigma, self.par,
+                                    kinds, contacts, lim, sgn, vel)
+
+    def dense_many(self, TA, TB, YOLD, FF, idx, ts):
+        """Dense output (17, n_t) at ``ts`` from the stored steps ``idx``."""
+        Y = np.empty((17, ts.size))
+        self.mod.dense_many(TA, TB, YOLD, FF, idx, ts, Y)
+        return Y
 
     def events_many(self, ts, Y, modes, sigma, kinds, contacts, lim, sgn, vel):
         G = np.empty((kinds.size, ts.size))

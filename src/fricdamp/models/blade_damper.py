@@ -242,6 +242,11 @@ class BladeDamperSystem(ConstrainedSystem):
         :mod:`fricdamp.models._blade_damper_compiled` (default; generated from the sympy
         kinematics on first use and cached on disk). False: the generic path through the
         lambdified kinematics (the reference; 20-40 times slower).
+    compiled_phases : bool
+        With ``compiled``: take whole DOP853 steps, their dense output and the event
+        screening in compiled code too (default; the same step-size control and event
+        samples as SciPy's DOP853). False: SciPy's DOP853 calls the compiled right-hand side
+        (the path before, kept for comparisons; about 3-10 times slower).
 
     Examples
     --------
@@ -253,6 +258,7 @@ class BladeDamperSystem(ConstrainedSystem):
 
     params: BladeDamperParameters = field(default_factory=BladeDamperParameters)
     compiled: bool = True
+    compiled_phases: bool = True
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     n_dof = 7
@@ -415,6 +421,16 @@ class BladeDamperSystem(ConstrainedSystem):
 
     def viscous_power(self, t, q, qd):
         return float(qd @ (self._cache["D"] @ qd))
+
+    def mechanical_energy_many(self, q, qd):
+        """Kinetic and potential energy [J] of the rows of q, qd (n_t, 7) (the vectorised
+        form of :meth:`kinetic_energy` and :meth:`potential_energy`)."""
+        q = np.asarray(q, dtype=float)
+        qd = np.asarray(qd, dtype=float)
+        kin = 0.5 * (qd * qd) @ np.diag(self._cache["M"])
+        pot = 0.5 * np.einsum("ti,ij,tj->t", q, self._cache["K"], q) \
+            - self.params.centrifugal_force * q[:, 6]
+        return kin, pot
 
     def kinetic_energy(self, qd) -> float:
         """``0.5 q'^T M q'`` [J]."""

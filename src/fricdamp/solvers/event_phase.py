@@ -38,6 +38,26 @@ EV_SLIP, EV_STICK_POS, EV_STICK_NEG, EV_NORMAL = 0, 1, 2, 3
 # EV_STICK_NEG: reserve mu|N| + lambda_T reached 0 (lambda_T at -limit: slips in +)
 
 
+class _Singular(Exception):
+    """A compiled phase met a singular constraint system (redundant constraints)."""
+
+
+class _Step:
+    """Interpolant of one compiled DOP853 step (scipy's dense output, same coefficients)."""
+
+    __slots__ = ("ph", "j")
+
+    def __init__(self, ph, j):
+        self.ph, self.j = ph, j
+
+    def __call__(self, t):
+        ph, j = self.ph, self.j
+        tt = np.atleast_1d(np.asarray(t, dtype=float))
+        Y = ph._ck.dense_many(ph._TA, ph._TB, ph._YOLD, ph._FF,
+                              np.full(tt.size, j, dtype=np.int64), np.ascontiguousarray(tt))
+        return Y[:, 0] if np.ndim(t) == 0 else Y
+
+
 @dataclass
 class Hit:
     """An event found in a phase: right-bracket time and the fired event functions."""
@@ -87,7 +107,7 @@ def _refine(g, ta, tb, h_scale):
     return r
 
 
-def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None):
+def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None, refine=None):
     """Earliest event among sampled event functions.
 
     An event function fires when it falls below ``-tol`` (its round-off level): a function
@@ -116,6 +136,9 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None):
         whose event functions come from a numerical solution). Roots whose uncertainty
         intervals overlap the earliest one's are one event; without it (exact phases) only
         roots within round-off are grouped.
+    refine : callable (i, ta, tb, h_scale, tol_i) -> float, optional
+        Replaces :func:`_refine` on ``gi(i, t) + tol_i`` (a compiled root finder doing the
+        same).
 
     Returns
     -------
@@ -139,7 +162,10 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None):
                 return gi(i, t) + tol[i]
 
             if g[j + 1] <= 0:
-                roots[i] = _refine(gs, tt[j], tt[j + 1], tt[j + 1] - tt[j])
+                if refine is not None:
+                    roots[i] = refine(i, tt[j], tt[j + 1], tt[j + 1] - tt[j], tol[i])
+                else:
+                    roots[i] = _refine(gs, tt[j], tt[j + 1], tt[j + 1] - tt[j])
             elif GD is not None and GD[i, j] < 0 and GD[i, j + 1] > 0:
                 tm = brentq(lambda t, i=i: gdi(i, t), tt[j], tt[j + 1],
                             xtol=4 * _EPS * max(abs(tt[j]), tt[j + 1] - tt[j]), rtol=4 * _EPS)
@@ -185,7 +211,7 @@ class NumericalPhase:
         self.y0 = np.concatenate([q0, qd0, np.zeros(3)])
         self.kinds, self.contacts = event_list(self.modes, ev.constrained, ev.frictionless)
         self.rtol, self.atol, self.max_step = rtol, atol, max_step
-        self.segments: list[tuple[float, float, object]] = []
+        self._segs: list[tuple[float, float, object]] = []
         self.n_rhs = 0
         self.vel_scale = np.zeros(ev.nc)
         self.h = np.inf
@@ -207,6 +233,10 @@ class NumericalPhase:
             self._sgn_c = np.ascontiguousarray(self._sgn, dtype=float)
             self._kinds_c = np.ascontiguousarray(self.kinds, dtype=np.int64)
             self._contacts_c = np.ascontiguousarray(self.contacts, dtype=np.int64)
+        #: whole DOP853 steps in compiled code (kernels with ``phase_run``): the steps are kept
+        #: as arrays (start, end, start state, interpolation coefficients), not objects
+        self._fused = bool(getattr(self._ck, "fused_phases", False))
+        self._m = 0
 
     def _solve(self, t, y):
         n = self.n
@@ -274,15 +304,34 @@ class NumericalPhase:
                          np.abs(res) + np.abs(lamT[c]) + np.abs(lamN[c]))
         return g, scale
 
+    @property
+    def segments(self) -> list[tuple[float, float, object]]:
+        """The DOP853 steps ``(t_start, t_end, interpolant)`` of the phase."""
+        if not self._fused:
+            return self._segs
+        return [(float(self._TA[j]), float(self._TB[j]), _Step(self, j))
+                for j in range(self._m)]
+
     def y(self, t):
-        """State at times t (n_t,) from the dense output, shape (2 n, n_t)."""
+        """State at times t (n_t,) from the dense output, shape (2 n + 3, n_t)."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
+        if self._fused:
+            m = self._m
+            if m == 0:
+                return np.repeat(self.y0[:, None], t.size, axis=1)
+            idx = np.clip(np.searchsorted(self._TA[:m], t, side="right") - 1, 0, m - 1)
+            out = self._ck.dense_many(self._TA, self._TB, self._YOLD, self._FF,
+                                      np.ascontiguousarray(idx, dtype=np.int64),
+                                      np.ascontiguousarray(t))
+            out[:, t <= self.t0] = self.y0[:, None]
+            return out
         out = np.empty((2 * self.n + 3, t.size))
-        starts = np.array([s[0] for s in self.segments])
-        idx = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(self.segments) - 1)
+        segs = self._segs
+        starts = np.array([s[0] for s in segs])
+        idx = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(segs) - 1)
         for j in np.unique(idx):
             sel = idx == j
-            out[:, sel] = self.segments[j][2](t[sel])
+            out[:, sel] = segs[j][2](t[sel])
         at0 = t <= self.t0
         out[:, at0] = self.y0[:, None]
         return out
@@ -290,6 +339,13 @@ class NumericalPhase:
     def advance(self, t_end) -> Hit | None:
         if t_end <= self.t0:
             return None
+        if self._fused:
+            vel0 = self.vel_scale.copy()
+            try:
+                return self._advance_fused(t_end)
+            except _Singular:
+                # a configuration with redundant constraints: the generic path for the phase
+                self._fused, self._m, self.vel_scale, self.n_rhs = False, 0, vel0, 0
         if self.kinds.size == 0:
             return self._integrate_to(t_end)
         g0, sc0 = self._g(self.t0, self.y0)
@@ -305,7 +361,7 @@ class NumericalPhase:
                                        "rtol/atol or check the system for a singular mass")
             interp = solver.dense_output()
             ta, tb = solver.t_old, solver.t
-            self.segments.append((ta, tb, interp))
+            self._segs.append((ta, tb, interp))
             ts = ta + (tb - ta) * self._interior
             Gi, Si = self._g_many(ts, interp(ts))
             G = np.column_stack([g_prev, Gi])
@@ -330,6 +386,83 @@ class NumericalPhase:
             g_prev, t_prev = G[:, -1], tb
         return None
 
+    def _advance_fused(self, t_end):
+        """:meth:`advance` with the DOP853 steps and the event screening in compiled code
+        (the same step-size control, dense output and event samples); only a step whose
+        samples change sign comes back here for :func:`first_event`."""
+        ck = self._ck
+        n_ev = self.kinds.size
+        ny = 2 * self.n + 3
+        if n_ev:
+            g_prev, sc0 = self._g(self.t0, self.y0)
+            g_prev = np.array(g_prev, dtype=float)
+            self._scale = np.array(sc0, dtype=float)
+        else:
+            g_prev, self._scale = np.zeros(0), np.zeros(0)
+        cap = 64
+        self._TA, self._TB = np.empty(cap), np.empty(cap)
+        self._YOLD, self._FF = np.empty((cap, ny)), np.empty((cap, 7, ny))
+        y = self.y0.copy()
+        f = np.empty(ny)
+        GI = np.empty((n_ev, 4))
+        stats = np.array([self.t0, 0.0, 0.0, 1.0])
+        atol = np.ascontiguousarray(self._atol)
+        while True:
+            status, m = ck.phase_run(y, f, t_end, self._modes_c, self.sigma, self.rtol, atol,
+                                     self.max_step, self._kinds_c, self._contacts_c,
+                                     self._lim_c, self._sgn_c, g_prev, self._scale,
+                                     self.vel_scale, self._TA, self._TB, self._YOLD, self._FF,
+                                     self._m, GI, stats)
+            self._m = m
+            self.n_rhs = int(stats[2])
+            if status == 4:
+                raise _Singular
+            if status == 3:
+                raise ConvergenceError(
+                    f"DOP853 failed at t = {stats[0]:.6g} s: Required step size is less than "
+                    "spacing between numbers.; loosen rtol/atol or check the system for a "
+                    "singular mass")
+            if status == 2:
+                cap = 2 * self._TA.size
+                for name in ("_TA", "_TB", "_YOLD", "_FF"):
+                    old = getattr(self, name)
+                    new = np.empty((cap,) + old.shape[1:])
+                    new[:m] = old[:m]
+                    setattr(self, name, new)
+                continue
+            if status == 0:
+                return None
+            j = m - 1
+            ta, tb = float(self._TA[j]), float(self._TB[j])
+            ts = ta + (tb - ta) * self._interior
+            G = np.column_stack([g_prev, GI])
+            tt = np.concatenate([[ta], ts])
+            step = _Step(self, j)
+
+            def gfun(i, t, f=step):
+                return self._g(t, f(t))[0][i]
+
+            def time_tol(i, t, h=tb - ta):
+                dt = 1e-6 * h
+                rate = abs(gfun(i, t + dt) - gfun(i, t - dt)) / (2 * dt)
+                err = self.rtol * self._scale[i]
+                return min(err / rate, 1e-2 * h) if rate > 0 else 1e-2 * h
+
+            def refine(i, a, b, h_scale, tol_i, j=j):
+                return ck.refine_root(j, i, a, b, h_scale, tol_i, self._TA, self._TB,
+                                      self._YOLD, self._FF, self._modes_c, self.sigma,
+                                      self._kinds_c, self._contacts_c, self._lim_c,
+                                      self._sgn_c, self.vel_scale)
+
+            found = first_event(tt, G, gfun, 1e2 * _EPS * self._scale + np.finfo(float).tiny,
+                                stats[3] != 0.0, time_tol=time_tol, refine=refine)
+            if found is not None:
+                return Hit(found[0], found[1], immediate=found[2])
+            stats[3] = 0.0
+            g_prev = np.ascontiguousarray(GI[:, -1])
+            if tb >= t_end:
+                return None
+
     def _integrate_to(self, t_end):
         solver = DOP853(self._rhs, self.t0, self.y0, t_end, rtol=self.rtol, atol=self._atol,
                         max_step=self.max_step)
@@ -337,7 +470,7 @@ class NumericalPhase:
             msg = solver.step()
             if solver.status == "failed":
                 raise ConvergenceError(f"DOP853 failed at t = {solver.t:.6g} s: {msg}")
-            self.segments.append((solver.t_old, solver.t, solver.dense_output()))
+            self._segs.append((solver.t_old, solver.t, solver.dense_output()))
         return None
 
     def outputs(self, t):

@@ -235,6 +235,11 @@ class Evaluator:
             |kinetic energy change| of the velocity projection [J].
         """
         cons = self.constrained
+        ck = self.compiled
+        if ck is not None and cons.all() and getattr(ck, "fused_phases", False):
+            ok, q_new, qd_new, de = ck.project(q, qd, modes)
+            if ok:
+                return q_new, qd_new, de
         if cons.any():
             for _ in range(5):
                 g = np.asarray(self.system.normal_gap(q), float)[cons]
