@@ -157,18 +157,38 @@ def _fast_transient():
     return integrate_contact3d(_contact3d_toy(), 0.02, 2e-4, q0=[2e-3, 1e-3, -1e-3])
 
 
-def _modal_transient():
+def _toy_basis():
     import scipy.linalg as sla
 
-    from fricdamp.solvers.modal_transient import ModalBasis, integrate_modal
+    from fricdamp.solvers.modal_transient import ModalBasis
 
     s = _contact3d_toy()
     lam, Phi = sla.eigh(s.K, s.M)
     P = s.contacts[0].projection
     basis = ModalBasis(lam, np.diag(Phi.T @ s.D @ Phi), P @ Phi, Phi[:1],
                        groups=(("c", 1),))
+    return s, Phi, basis
+
+
+def _modal_transient():
+    from fricdamp.solvers.modal_transient import integrate_modal
+
+    s, Phi, basis = _toy_basis()
     eta0 = Phi.T @ (s.M @ np.array([2e-3, 1e-3, -1e-3]))
     return integrate_modal(basis, [s.contacts[0].law], 0.02, 2e-4, eta0=eta0, progress=False)
+
+
+def _static_contact():
+    from fricdamp.solvers.fast_transient import solve_static
+
+    return solve_static(_contact3d_toy(), np.array([5.0, -3.0, 2.0]))
+
+
+def _modal_static():
+    from fricdamp.solvers.modal_transient import solve_static_modal
+
+    s, Phi, basis = _toy_basis()
+    return solve_static_modal(basis, [s.contacts[0].law], Phi.T @ np.array([5.0, -3.0, 2.0]))
 
 
 BUILDERS = {
@@ -186,6 +206,8 @@ BUILDERS = {
     "CyclicForcedResponse": _cyclic_forced_response,
     "FastTransientResult": _fast_transient,
     "ModalTransientResult": _modal_transient,
+    "StaticContactResult": _static_contact,
+    "ModalStaticResult": _modal_static,
 }
 
 

@@ -78,8 +78,8 @@ def _stack_projection(system: MechanicalSystem):
 
 
 # ================================================================================ static
-@dataclass(frozen=True)
-class StaticContactResult:
+@dataclass(frozen=True, repr=False)
+class StaticContactResult(ResultMixin):
     """Static equilibrium with contacts from :func:`solve_static`.
 
     Attributes
@@ -102,6 +102,39 @@ class StaticContactResult:
     contact_force: list
     iterations: int
     residual: float
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        return status_verdict(True, "", {"residual_m": float(self.residual),
+                                         "iterations": int(self.iterations)})
+
+    def to_xarray(self):
+        """``xarray.Dataset``: displacements per DOF and, per contact element ``k``, its
+        relative displacements ``contact{k}_u`` and forces ``contact{k}_f``."""
+        import xarray as xr
+
+        ds = xr.Dataset({"q": (("dof",), self.q, {"units": "m"})},
+                        attrs={"iterations": int(self.iterations),
+                               "residual_m": float(self.residual)})
+        for k, (u, f) in enumerate(zip(self.contact_displacement, self.contact_force,
+                                       strict=True)):
+            dims = (f"contact{k}", f"contact{k}_dir")
+            ds[f"contact{k}_u"] = (dims, np.asarray(u), {"units": "m"})
+            ds[f"contact{k}_f"] = (dims, np.asarray(f), {"units": "N"})
+        return ds
+
+    def plot(self, ax=None):
+        """Static displacement of every DOF [m]; returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 3.5))
+        ax.plot(np.arange(self.q.size), self.q, "o-", ms=3)
+        ax.set_xlabel("DOF index")
+        ax.set_ylabel("static displacement [m]")
+        ax.grid(alpha=0.3)
+        return ax
 
 
 def _factor_solver(K):

@@ -502,8 +502,8 @@ def _newton_krylov_step(C, K, g, blocks, ap, tol):
 
 
 # ====================================================================================== static
-@dataclass(frozen=True)
-class ModalStaticResult:
+@dataclass(frozen=True, repr=False)
+class ModalStaticResult(ResultMixin):
     """Static equilibrium with contacts from :func:`solve_static_modal`.
 
     Attributes
@@ -528,6 +528,50 @@ class ModalStaticResult:
     status: np.ndarray
     iterations: int
     residual: float
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        return status_verdict(True, "", {"residual_m": float(self.residual),
+                                         "iterations": int(self.iterations)})
+
+    def to_xarray(self):
+        """``xarray.Dataset``: modal coordinates, contact displacements and forces
+        (n, t1, t2) and the contact status of every contact."""
+        import xarray as xr
+
+        return xr.Dataset(
+            {"eta": (("mode",), self.eta, {"units": "m kg^0.5"}),
+             "contact_displacement": (("contact", "direction"), self.u, {"units": "m"}),
+             "contact_force": (("contact", "direction"), self.f, {"units": "N"}),
+             "contact_status": (("contact",), np.asarray(self.status),
+                                {"long_name": "0 open, 1 stick, 2 slip"})},
+            coords={"direction": ["n", "t1", "t2"]},
+            attrs={"iterations": int(self.iterations), "residual_m": float(self.residual)})
+
+    def plot(self, ax=None):
+        """Tangential against normal force of every contact, coloured by status; returns
+        the axes."""
+        return _plot_contact_forces(self.f, np.asarray(self.status), ax)
+
+
+def _plot_contact_forces(f, status, ax=None):
+    """Scatter of |tangential| vs normal contact force [N], one point per contact."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5, 4))
+    f = np.asarray(f, float).reshape(-1, 3)
+    ft = np.hypot(f[:, 1], f[:, 2])
+    for code, name in ((0, "open"), (1, "stick"), (2, "slip")):
+        sel = status == code
+        if np.any(sel):
+            ax.plot(-f[sel, 0], ft[sel], "o", ms=3, label=name)
+    ax.set_xlabel("normal force (compression) [N]")
+    ax.set_ylabel("tangential force [N]")
+    ax.legend(fontsize="small")
+    ax.grid(alpha=0.3)
+    return ax
 
 
 #: Contact rows up to which the static Newton step is a dense solve (above: GMRES).
