@@ -499,6 +499,10 @@ def _verdict(ident, d: dict):
             "cycle_energy_relative_spread", "filtered_fraction")
     est = {k: d[k] for k in keys if isinstance(d.get(k), (int, float))}
     est["diagnostics"] = ident.trust is not None
+    if ident.force_check is not None:
+        est["torque_from_force_rms_difference"] = d["torque_from_force"][
+            "torque_relative_rms_difference"]
+        est["energy_balance_residual"] = d["energy_balance"]["residual_relative_to_input"]
     if ident.status == "unreliable":
         return Verdict(UNRELIABLE, tuple(ident.warnings), est)
     return Verdict(OK, (), est)

@@ -178,3 +178,15 @@ def test_cli_force_channel(tmp_path, rig, records, capsys):
     rig_file.write_text(RIG)
     with pytest.raises(CaseError, match=r"\[channels\] force = 'F' needs a \[shaker\]"):
         load_rig_file(rig_file)
+
+
+def test_summary_verdict_carries_the_force_estimates(tmp_path, records, capsys):
+    rig_file = tmp_path / "rig.toml"
+    rig_file.write_text(RIG + SHAKER)
+    out = tmp_path / "out"
+    assert main(["identify", str(write(tmp_path, records[5.0])), "--rig", str(rig_file),
+                 "--no-diagnostics", "--out", str(out)]) == 0, capsys.readouterr()
+    summary = json.loads((out / "summary.json").read_text())
+    est = summary["verdict"]["analyses"]["identification"]["estimates"]
+    assert est["torque_from_force_rms_difference"] < 1e-3
+    assert est["energy_balance_residual"] < 2e-4
