@@ -11,6 +11,7 @@ Axes are labelled with the quantity and its unit; SI values are rescaled to a re
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -19,6 +20,7 @@ from matplotlib.figure import Figure
 __all__ = [
     "cycle_energy",
     "damping_vs_amplitude",
+    "dof_label",
     "format_si",
     "energy_partition",
     "hysteresis_loops",
@@ -28,6 +30,18 @@ __all__ = [
     "stability_line",
     "time_histories",
 ]
+
+#: What the beam builders' DOF names mean (``"w8"``: z-displacement of node 8).
+_DOF_KINDS = {"u": "x-displacement", "v": "y-displacement", "w": "z-displacement",
+              "phi": "rotation about x", "theta": "rotation about y", "psi": "rotation about z"}
+
+
+def dof_label(name: str) -> str:
+    """A DOF name for axis labels: a beam DOF ``"w8"`` becomes ``"w8 (z-displacement of
+    node 8)"``; other names are returned unchanged."""
+    m = re.fullmatch(r"(u|v|w|phi|theta|psi)(\d+)", str(name))
+    return f"{name} ({_DOF_KINDS[m[1]]} of node {m[2]})" if m else str(name)
+
 
 _PREFIXES = ((1e-9, "n"), (1e-6, "µ"), (1e-3, "m"), (1.0, ""), (1e3, "k"), (1e6, "M"))
 

@@ -51,3 +51,11 @@ def test_damping_vs_amplitude_uses_a_log_axis_over_decades():
     fig = plot.damping_vs_amplitude(np.linspace(1e-3, 2e-3, 10), zeta, f)
     assert fig.axes[0].get_xscale() == "linear"
     assert fig.axes[0].get_ylabel() == "damping ratio [%]"
+
+
+def test_beam_dof_names_are_spelled_out_in_labels():
+    from fricdamp.plot import dof_label
+
+    assert dof_label("w8") == "w8 (z-displacement of node 8)"
+    assert dof_label("theta3") == "theta3 (rotation about y of node 3)"
+    assert dof_label("blade 1") == "blade 1" and dof_label("q1") == "q1"

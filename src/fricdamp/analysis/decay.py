@@ -821,7 +821,7 @@ class DecayResult(ResultMixin):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots()
+            _, ax = plt.subplots(layout="constrained")
         order = np.argsort(self.amplitude)
         ax.plot(self.amplitude, 100 * self.damping_ratio, "o", ms=3,
                 label=f"per interval ({self.method})")

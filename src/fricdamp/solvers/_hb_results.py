@@ -266,7 +266,7 @@ class SteadyState(ResultMixin):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6, 3.5))
+            _, ax = plt.subplots(figsize=(6, 3.5), layout="constrained")
         t, q = self.time_history()
         names = list(self.dof_names) or [f"q{i + 1}" for i in range(q.shape[1])]
         for i in (range(q.shape[1]) if dofs is None else dofs):
@@ -558,9 +558,11 @@ class FrequencyResponse(ResultMixin):
         With stability computed, unstable parts are dashed and bifurcations circled."""
         import matplotlib.pyplot as plt
 
+        from fricdamp.plot import dof_label
+
         if ax is None:
-            _, ax = plt.subplots()
-        name = self.dof_names[dof] if self.dof_names else f"q{dof + 1}"
+            _, ax = plt.subplots(layout="constrained")
+        name = dof_label(self.dof_names[dof]) if self.dof_names else f"q{dof + 1}"
         if self.parameter == "load":
             x = self.load_scale
             ax.set_xlabel("load scale [-]")

@@ -440,7 +440,7 @@ class CyclicForcedResponse(ResultMixin):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+            _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
         ax.plot(self.frequency_hz, self.amplitude(dofs), **kwargs)
         ax.set_xlabel("excitation frequency [Hz]")
         ax.set_ylabel(f"amplitude of sector-0 DOF {list(np.atleast_1d(dofs))} [m]")

@@ -326,7 +326,7 @@ class EqLinResult(ResultMixin):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+            _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
         a = np.abs(self.response[:, dof])
         ax.plot(self.frequency_hz, a, **kwargs)
         bad = ~np.asarray(self.converged, bool)

@@ -129,7 +129,7 @@ class StaticContactResult(ResultMixin):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6, 3.5))
+            _, ax = plt.subplots(figsize=(6, 3.5), layout="constrained")
         ax.plot(np.arange(self.q.size), self.q, "o-", ms=3)
         ax.set_xlabel("DOF index")
         ax.set_ylabel("static displacement [m]")
@@ -358,7 +358,7 @@ class FastTransientResult(ResultMixin, EnergyBalance):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(7, 3.5))
+            _, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
         for i in (range(self.q.shape[1]) if outputs is None else outputs):
             ax.plot(self.t, 1e3 * self.q[:, i], lw=1, label=f"output {i}")
         ax.set_xlabel("time [s]")

@@ -182,7 +182,7 @@ class ModalResult(ResultMixin):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots()
+            _, ax = plt.subplots(layout="constrained")
         sel = range(min(self.n_modes, 4)) if modes is None else modes
         x = np.arange(self.shapes.shape[0])
         for k in sel:
@@ -521,7 +521,7 @@ class CampbellResult(ResultMixin):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots()
+            _, ax = plt.subplots(layout="constrained")
         for k in range(self.frequencies.shape[1]):
             ax.plot(self.rpm, self.frequencies[:, k], label=f"mode {k + 1}")
         for o in np.atleast_1d(orders):

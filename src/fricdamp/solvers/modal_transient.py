@@ -560,7 +560,7 @@ def _plot_contact_forces(f, status, ax=None):
     import matplotlib.pyplot as plt
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(5, 4))
+        _, ax = plt.subplots(figsize=(5, 4), layout="constrained")
     f = np.asarray(f, float).reshape(-1, 3)
     ft = np.hypot(f[:, 1], f[:, 2])
     for code, name in ((0, "open"), (1, "stick"), (2, "slip")):
@@ -800,7 +800,7 @@ class ModalTransientResult(ResultMixin, EnergyBalance):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(7, 3.5))
+            _, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
         for i in (range(self.output.shape[1]) if outputs is None else outputs):
             ax.plot(self.t, 1e3 * self.output[:, i], lw=1, label=f"output {i}")
         ax.set_xlabel("time [s]")

@@ -184,7 +184,7 @@ class NonlinearModes(ResultMixin):
         import matplotlib.pyplot as plt
 
         if axes is None:
-            _, axes = plt.subplots(2, 1, sharex=True, figsize=(6, 5))
+            _, axes = plt.subplots(2, 1, sharex=True, figsize=(6, 5), layout="constrained")
         axes[0].semilogx(self.amplitude, self.frequency_hz, "o-", ms=3)
         axes[0].axhline(self.linear_frequency_hz, color="0.6", lw=0.8, ls=":",
                         label="linear, stuck")

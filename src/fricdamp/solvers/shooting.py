@@ -526,7 +526,7 @@ class PeriodicOrbit(ResultMixin):
         import matplotlib.pyplot as plt
 
         if axes is None:
-            _, axes = plt.subplots(figsize=(5, 4))
+            _, axes = plt.subplots(figsize=(5, 4), layout="constrained")
         for i in (range(self.q.shape[1]) if dofs is None else dofs):
             axes.plot(self.q[:, i], self.qd[:, i], lw=1, label=self.dof_names[i]
                       if self.dof_names else f"q{i + 1}")
@@ -1007,7 +1007,7 @@ class OrbitBranch(ResultMixin):
         from fricdamp.plot import stability_line
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+            _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
         stability_line(ax, self.frequency_hz, self.amplitude[:, dof],
                        np.asarray(self.stable, bool), marker="o", ms=3)
         ax.set_xlabel("excitation frequency [Hz]")

@@ -235,7 +235,7 @@ class TimeResult(ResultMixin, EnergyBalance):
         import matplotlib.pyplot as plt
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(7, 3.5))
+            _, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
         names = list(self.dof_names) or [f"q{i + 1}" for i in range(self.q.shape[1])]
         idx = range(self.q.shape[1]) if dofs is None else dofs
         for i in idx:
