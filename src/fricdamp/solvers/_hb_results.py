@@ -288,7 +288,7 @@ class Bifurcation:
     type : str
         "fold" (turning point), "branch_point", "neimark_sacker" or "period_doubling".
     omega : float
-        Excitation angular frequency [rad/s] at the bifurcation.
+        Excitation angular frequency [rad/s] at the bifurcation (``frequency_hz`` in Hz).
     load_scale : float
         Factor on the harmonic loads there (1 on a frequency response).
     amplitude : ndarray, shape (n_dof,)
@@ -314,6 +314,11 @@ class Bifurcation:
     after_point: int
     multiplier: complex
     located: bool
+
+    @property
+    def frequency_hz(self) -> float:
+        """Excitation frequency at the bifurcation [Hz]."""
+        return float(self.omega) / (2 * np.pi)
 
     def as_dict(self, dof: int | None = None) -> dict:
         """JSON-ready record; ``amplitude_m`` is that of ``dof`` if given, else per DOF."""
