@@ -190,3 +190,19 @@ def test_summary_verdict_carries_the_force_estimates(tmp_path, records, capsys):
     est = summary["verdict"]["analyses"]["identification"]["estimates"]
     assert est["torque_from_force_rms_difference"] < 1e-3
     assert est["energy_balance_residual"] < 2e-4
+
+
+def test_closed_loop_uses_the_simulated_force_on_request(rig):
+    from fricdamp.models.rotational_joint import closed_loop_identification
+
+    res = rig.simulate(5.0, periods=12, steps_per_period=160)
+    plain = closed_loop_identification(rig, 5.0, response=res, analysed_periods=6,
+                                       diagnostics=False)
+    assert plain.identification.force_check is None
+    assert "torque_from_force" not in plain.to_dict()
+    cl = closed_loop_identification(rig, 5.0, response=res, analysed_periods=6,
+                                    diagnostics=False, use_force=True)
+    d = cl.to_dict()
+    assert d["torque_from_force"]["torque_relative_rms_difference"] < 1e-3
+    assert d["energy_balance"]["residual_relative_to_input"] < 2e-4
+    assert cl.identified_energy == plain.identified_energy

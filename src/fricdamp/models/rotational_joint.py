@@ -136,7 +136,8 @@ class ClosedLoopResult:
                 "damping_ratio_identified": float(ident.damping_ratio),
                 "noise_fraction": float(self.noise),
                 "n_periods": int(ident.n_periods),
-                "kinematics": ident.kinematics}
+                "kinematics": ident.kinematics,
+                **(ident.force_check.to_dict() if ident.force_check is not None else {})}
 
     def plot(self, ax=None):
         """Model loop and identified loop on one axes; returns the axes."""
@@ -160,6 +161,7 @@ def closed_loop_identification(rig: RotationalJointRig, force_amplitude: float, 
                                noise: float = 0.0, seed: int | None = 0,
                                gravity_sensing: bool = False,
                                response: RigResponse | None = None,
+                               use_force: bool = False,
                                **identify_options) -> ClosedLoopResult:
     """Simulate the rig, sample the accelerometers, run the pipeline, compare loop energies.
 
@@ -185,6 +187,10 @@ def closed_loop_identification(rig: RotationalJointRig, force_amplitude: float, 
         ``kinematics="exact", gravity_sensing=True`` to the pipeline to account for it).
     response : RigResponse, optional
         Reuse a simulation instead of running one.
+    use_force : bool, optional
+        Give the pipeline the simulated shaker force and the rig's beam 1
+        (:meth:`RigParameters.driven_beam`): the second torque estimate and the energy
+        balance (:class:`~fricdamp.analysis.identify.ForceCheck`); default False.
     **identify_options
         Passed to :func:`fricdamp.analysis.identify.identify_joint` (``kinematics``,
         ``filter``, ...).
@@ -199,6 +205,9 @@ def closed_loop_identification(rig: RotationalJointRig, force_amplitude: float, 
     tab = response.accelerometers(noise=noise, seed=seed, gravity_sensing=gravity_sensing)
     if gravity_sensing and identify_options.get("kinematics") == "exact":
         identify_options.setdefault("gravity_sensing", True)
+    if use_force:
+        identify_options.setdefault("force", tab["force"])
+        identify_options.setdefault("driven_beam", rig.params.driven_beam())
     ident = identify_joint(tab["time"], tab["A"], tab["B"], tab["C"], rig.params.geometry(),
                            frequency_hz=response.frequency_hz, periods=analysed_periods,
                            source="simulated rig", **identify_options)
