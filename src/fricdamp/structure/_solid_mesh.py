@@ -90,7 +90,7 @@ def _tet_volume(a, b, c, d):
 
 
 # ---------------------------------------------------------------------------- SolidMesh
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class SolidMesh:
     """A volume mesh of linear or quadratic tetrahedra or hexahedra, as read or generated.
 
@@ -119,6 +119,11 @@ class SolidMesh:
     cells: np.ndarray
     point_sets: dict[str, np.ndarray] = field(default_factory=dict)
     cell_sets: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     def __post_init__(self):
         points = as_finite_array("points", self.points)

@@ -349,7 +349,7 @@ def _mass(length, sec, Nu, Nth):
 
 
 # ---------------------------------------------------------------------------- model
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class BeamModel:
     """Assembled beam structure, reduced to its free DOFs.
 
@@ -386,6 +386,11 @@ class BeamModel:
     centrifugal_displacement_per_omega2: np.ndarray | None = None
     name: str = "beam"
     _full_to_free: np.ndarray = field(init=False, repr=False)
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     def __post_init__(self):
         full_to_free = -np.ones(6 * self.nodes.shape[0], dtype=int)

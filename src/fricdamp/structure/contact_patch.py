@@ -135,7 +135,7 @@ class PatchResultants:
     center_of_pressure: np.ndarray
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ContactPatch:
     """Node pairs of one sector's contact: right face of sector j to left face of j + 1.
 
@@ -166,6 +166,11 @@ class ContactPatch:
     element_size: float
     sector_angle: float
     axis: tuple = (0.0, 0.0, 1.0)
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     @property
     def n_pairs(self) -> int:

@@ -63,7 +63,7 @@ def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     return np.eye(3) + np.sin(angle) * Kx + (1.0 - np.cos(angle)) * (Kx @ Kx)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class CyclicSector:
     """One sector of a cyclically symmetric structure.
 
@@ -105,6 +105,11 @@ class CyclicSector:
     named_dofs: Mapping[str, np.ndarray] = field(default_factory=dict)
     dof_names: tuple[str, ...] | None = None
     name: str = "sector"
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     def __post_init__(self):
         base = MechanicalSystem(M=self.M, K=self.K, D=self.D, dof_names=self.dof_names)
@@ -344,7 +349,7 @@ def assemble_full(sector: CyclicSector, **kwargs) -> MechanicalSystem:
 
 
 # --------------------------------------------------------------------------- modes by ND
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class CyclicModes:
     """Modes of one harmonic index (nodal diameter) of a cyclic structure.
 
@@ -368,6 +373,11 @@ class CyclicModes:
     n_sectors: int
     frequencies: np.ndarray
     shapes: np.ndarray
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     @property
     def multiplicity(self) -> int:

@@ -328,7 +328,7 @@ def _cyclic_interface_basis(KJ, MJ, BK, BM, n_sectors: int, n_im: int, tol: floa
 
 
 # --------------------------------------------------------------------------- reduction
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class CyclicReducedSector:
     """A cyclic sector reduced by Craig–Bampton with characteristic interface modes.
 
@@ -371,6 +371,11 @@ class CyclicReducedSector:
     kept_dofs: np.ndarray
     rayleigh: tuple[float, float] | None = None
     timings: Mapping[str, float] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     @property
     def n_interface_modes(self) -> int:
@@ -611,7 +616,7 @@ def reduce_sector(sector: CyclicSector, *, keep: Mapping[str, Sequence[int]] | N
 
 
 # --------------------------------------------------------------------------- wheel modes
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class WheelModes:
     """Real, mass-orthonormal modes of a cyclic wheel, computed by nodal diameter.
 
@@ -654,6 +659,11 @@ class WheelModes:
     sector_index: np.ndarray
     nds: np.ndarray
     sector_shapes: tuple[np.ndarray, ...]
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     @property
     def n_modes(self) -> int:

@@ -103,7 +103,7 @@ def mistuned_wheel(sector: CyclicSector, *, stiffness_factors=None, added_mass=N
     return K, M
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class MistunedModes:
     """Lowest modes of a mistuned wheel.
 
@@ -124,6 +124,11 @@ class MistunedModes:
     nd: np.ndarray
     localisation: np.ndarray
     probe: np.ndarray
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     def doublet_split_hz(self, nd: int) -> float:
         """Frequency difference [Hz] of the two lowest modes of ``nd`` (the split doublet)."""

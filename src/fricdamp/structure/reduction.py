@@ -246,7 +246,7 @@ def _project(A, T: np.ndarray) -> np.ndarray:
     return T.T @ np.asarray(A @ T)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ReducedSystem:
     """A Craig–Bampton reduced system and the way back to the full DOFs.
 
@@ -269,6 +269,11 @@ class ReducedSystem:
     transformation: np.ndarray
     boundary_dofs: np.ndarray
     fixed_interface_frequencies: np.ndarray
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     @property
     def n_modes(self) -> int:
@@ -438,7 +443,7 @@ def craig_bampton(system: MechanicalSystem, boundary_dofs: Sequence[int], n_mode
                          fixed_interface_frequencies=freqs)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ReducedSector:
     """A Craig–Bampton reduced cyclic sector.
 
@@ -455,6 +460,11 @@ class ReducedSector:
 
     sector: CyclicSector
     reduction: ReducedSystem
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
 
     def reduced_index(self, sector_dofs) -> np.ndarray:
         """Reduced-sector indices of original sector DOFs that were kept."""

@@ -56,7 +56,7 @@ logger = logging.getLogger(__name__)
 _MATERIAL_KEYS = ("youngs_modulus", "poisson_ratio", "density")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class SolidModel:
     """Stiffness and mass of a linear-elastic solid with its nodes, DOFs and named sets.
 
@@ -116,6 +116,11 @@ class SolidModel:
     element_region: np.ndarray | None = field(default=None, repr=False)
 
     # ------------------------------------------------------------------ sizes
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        return summary_repr(self)
+
     @property
     def n_nodes(self) -> int:
         """Number of FE nodes."""
