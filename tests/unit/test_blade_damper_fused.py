@@ -23,6 +23,7 @@ import itertools
 import numpy as np
 import pytest
 
+from fricdamp.errors import ConvergenceError
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
 from fricdamp.models.blade_damper_analyses import time_response
 from fricdamp.solvers.event_switch import Evaluator
@@ -83,3 +84,58 @@ def test_compiled_projection_equals_generic():
             assert np.all(np.abs(WN.T @ qd1) <= 1e-12 * np.abs(qd).max())
             stick = m == 0
             assert np.all(np.abs(WT[:, stick].T @ qd1) <= 1e-12 * np.abs(qd).max())
+
+
+def test_compiled_switching_solve_equals_generic():
+    """Evaluator.solve with GIVEN contacts (the switching problem's affine maps, several
+    right-hand sides) and plain configurations: compiled vs generic, to 1e-12 of the scale."""
+    p = BladeDamperParameters(gamma=np.deg2rad(60.0), excitation_amplitude=5.0)
+    fast = Evaluator(BladeDamperSystem(p))
+    ref = Evaluator(BladeDamperSystem(p, compiled=False))
+    assert fast._fused is not None and ref._fused is None
+    for modes in itertools.product((0, 1, -1, 2), repeat=2):
+        m = np.array(modes)
+        for sigma in (np.ones(2), np.array([1.0, -1.0])):
+            q, _ = fast.system.full_state(np.concatenate([RNG.uniform(-2e-4, 2e-4, 4),
+                                                          RNG.uniform(-0.05, 0.05, 1)]))
+            qd = np.concatenate([RNG.uniform(-0.3, 0.3, 4), RNG.uniform(-30, 30, 1),
+                                 RNG.uniform(-0.3, 0.3, 2)])
+            t = RNG.uniform(0, 0.1)
+            given = RNG.uniform(-20, 20, (2, 3)) if (m == 2).any() else None
+            a = fast.solve(fast.point(t, q, qd), m, sigma, given)
+            b = ref.solve(ref.point(t, q, qd), m, sigma, given)
+            lam_scale = np.abs(b[1]).max() + np.abs(b[2]).max()
+            acc_scale = np.max(np.abs(b[0])) + lam_scale / p.damper_inertia
+            assert np.max(np.abs(a[0] - b[0])) <= 1e-12 * acc_scale
+            assert np.max(np.abs(a[1] - b[1])) <= 1e-12 * lam_scale
+            assert np.max(np.abs(a[2] - b[2])) <= 1e-12 * lam_scale
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_compiled_lemke_equals_python_lemke(seed):
+    """The compiled Lemke kernel takes the same pivots as event_switch.lemke: same z on
+    random friction LCPs with normal forces coupled to the friction forces (H != 0, as in the
+    blade damper), including degenerate ones (a zero right-hand side entry) and unsolvable
+    ones (ray termination)."""
+    from fricdamp.solvers.event_switch import solve_friction_lcp
+
+    rng = np.random.default_rng(300 + seed)
+    for _ in range(25):
+        k = 1 + int(rng.integers(0, 3))
+        R = rng.normal(size=(k, k))
+        G = R @ R.T + 0.2 * np.eye(k)
+        b = 2 * rng.normal(size=k)
+        if rng.random() < 0.3:
+            b[0] = 0.0
+        H = 0.3 * rng.normal(size=(k, k))
+        c = rng.uniform(0.2, 2.0, size=k)
+        mu = rng.uniform(0.1, 0.6, size=k)
+        try:
+            l1, a1 = solve_friction_lcp(G, b, H, c, mu)
+        except ConvergenceError:  # no solution (a ray): the kernel says so too
+            with pytest.raises(ConvergenceError, match="ray"):
+                solve_friction_lcp(G, b, H, c, mu, compiled=True)
+            continue
+        l2, a2 = solve_friction_lcp(G, b, H, c, mu, compiled=True)
+        assert np.max(np.abs(l1 - l2)) <= 1e-12 * (1 + np.abs(l1).max())
+        assert np.max(np.abs(a1 - a2)) <= 1e-12 * (1 + np.abs(a1).max())

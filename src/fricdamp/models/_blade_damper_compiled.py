@@ -189,6 +189,78 @@ def configuration_solve(h, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT)
 
 
 @njit(cache=True)
+def configuration_solve_given(h, WN, WT, wbN, wbT, modes, sigma, given, par, QDD, LN, LT):
+    """:meth:`fricdamp.solvers.event_switch.Evaluator.solve` with GIVEN contacts (mode 2:
+    tangential force prescribed, one column of ``given`` (2, k) per right-hand side) for
+    both normals constrained: ``QDD`` (7, k), ``LN``, ``LT`` (2, k). Returns the pivot ratio
+    (<= 1e-13: singular)."""
+    mud = par[_MUD]
+    k = given.shape[1]
+    B = np.empty((7, 4))
+    C = np.empty((7, 4))
+    rhs = np.empty(4)
+    m = 0
+    for i in range(2):
+        s = float(modes[i]) if (modes[i] == 1 or modes[i] == -1) else 0.0
+        f = mud * sigma[i] * s
+        for r in range(7):
+            B[r, m] = WN[r, i] - WT[r, i] * f
+            C[r, m] = WN[r, i]
+        rhs[m] = wbN[i]
+        m += 1
+    for i in range(2):
+        if modes[i] == STICK:
+            for r in range(7):
+                B[r, m] = WT[r, i]
+                C[r, m] = WT[r, i]
+            rhs[m] = wbT[i]
+            m += 1
+    A0 = np.zeros((4, 4))
+    for a in range(m):
+        for b in range(m):
+            acc = 0.0
+            for r in range(7):
+                acc += C[r, a] * par[_MINV + r] * B[r, b]
+            A0[a, b] = acc
+    worst = 1.0
+    A = np.empty((4, 4))
+    x = np.empty(4)
+    MiF = np.empty(7)
+    for col in range(k):
+        for r in range(7):
+            fr = h[r]
+            for i in range(2):
+                if modes[i] == 2:
+                    fr += WT[r, i] * given[i, col]
+            MiF[r] = par[_MINV + r] * fr
+        for a in range(m):
+            acc = rhs[a]
+            for r in range(7):
+                acc += C[r, a] * MiF[r]
+            x[a] = -acc
+            for b in range(m):
+                A[a, b] = A0[a, b]
+        worst = min(worst, _lu_solve(A, x, m))
+        for r in range(7):
+            acc = MiF[r]
+            for b in range(m):
+                acc += par[_MINV + r] * B[r, b] * x[b]
+            QDD[r, col] = acc
+        LN[0, col] = x[0]
+        LN[1, col] = x[1]
+        j = 2
+        for i in range(2):
+            if modes[i] == STICK:
+                LT[i, col] = x[j]
+                j += 1
+            elif modes[i] == 2:
+                LT[i, col] = given[i, col]
+            else:
+                LT[i, col] = -mud * float(modes[i]) * abs(LN[i, col])
+    return worst
+
+
+@njit(cache=True)
 def powers(t, qd, WT, lamT, par):
     """Input power of F_E, viscous power ``q'^T D q'`` and friction power ``lambda_T . gamma_T``."""
     wt = par[_OMEGA] * t
@@ -933,6 +1005,16 @@ class BladeDamperKernels:
                         np.ascontiguousarray(qd, dtype=float),
                         np.ascontiguousarray(modes, dtype=np.int64), self.par, q_out, qd_out)
         return r > self.SINGULAR, q_out, qd_out, de
+
+    def solve_point(self, h, WN, WT, wbN, wbT, modes, sigma, given=None):
+        """Compiled ``Evaluator.solve`` at a point (both normals constrained); ``(ok, qdd,
+        lamN, lamT)`` with one column per column of ``given`` (2, k) (default k = 1)."""
+        g = np.zeros((2, 1)) if given is None else np.ascontiguousarray(given, dtype=float)
+        k = g.shape[1]
+        QDD, LN, LT = np.empty((7, k)), np.empty((2, k)), np.empty((2, k))
+        r = configuration_solve_given(h, WN, WT, wbN, wbT, modes, sigma, g, self.par,
+                                      QDD, LN, LT)
+        return r > self.SINGULAR, QDD, LN, LT
 
     def refine_root(self, j, i, ta, tb, h_scale, tol_i, TA, TB, YOLD, FF, modes, sigma, kinds,
                     contacts, lim, sgn, vel):

@@ -301,3 +301,105 @@ def small_lu_solve(A, B):
                 s -= LU[k, i] * X[i, j]
             X[k, j] = s / LU[k, k]
     return X, umin / umax
+
+
+@njit(cache=True)
+def lemke_kernel(A, q, max_iter):
+    """:func:`fricdamp.solvers.event_switch.lemke` compiled (same tableau, covering vector,
+    lexicographic ratio test and tolerances). Returns ``(z, status)``: 0 solved, 1 ended on
+    a ray, 2 iteration limit."""
+    n = q.size
+    z = np.zeros(n)
+    if n == 0:
+        return z, 0
+    allpos = True
+    for i in range(n):
+        if not q[i] >= 0:
+            allpos = False
+    if allpos:
+        return z, 0
+    nc = 2 * n + 2
+    T = np.zeros((n, nc))
+    amax = 0.0
+    for i in range(n):
+        T[i, i] = 1.0
+        for j in range(n):
+            T[i, n + j] = -A[i, j]
+            amax = max(amax, abs(A[i, j]))
+        T[i, 2 * n] = -1.0
+        T[i, nc - 1] = q[i]
+    basis = np.arange(n)
+    tol = 1e-13 * max(1.0, amax)
+    col = np.empty(n)
+    r = 0
+    for i in range(1, n):
+        if q[i] < q[r]:
+            r = i
+
+    def _pivot(T, r, e, col):
+        piv = T[r, e]
+        for j in range(T.shape[1]):
+            T[r, j] /= piv
+        for i in range(T.shape[0]):
+            col[i] = T[i, e]
+        col[r] = 0.0
+        for i in range(T.shape[0]):
+            if col[i] != 0.0:
+                for j in range(T.shape[1]):
+                    T[i, j] -= col[i] * T[r, j]
+
+    _pivot(T, r, 2 * n, col)
+    leaving = basis[r]
+    basis[r] = 2 * n
+    cand = np.empty(n, dtype=np.int64)
+    keys = np.empty((n, n + 1))
+    for _ in range(max_iter):
+        entering = leaving + n if leaving < n else leaving - n
+        nr = 0
+        for i in range(n):
+            if T[i, entering] > tol:
+                cand[nr] = i
+                for j in range(n + 1):
+                    src = nc - 1 if j == 0 else j - 1
+                    keys[nr, j] = T[i, src] / T[i, entering]
+                nr += 1
+        if nr == 0:
+            return z, 1
+        for j in range(n + 1):
+            best = np.inf
+            for a in range(nr):
+                best = min(best, keys[a, j])
+            lim = best + 1e-12 * max(1.0, abs(best))
+            m = 0
+            for a in range(nr):
+                if keys[a, j] <= lim:
+                    cand[m] = cand[a]
+                    for jj in range(n + 1):
+                        keys[m, jj] = keys[a, jj]
+                    m += 1
+            nr = m
+            if nr == 1:
+                break
+            if j == 0:
+                has = False
+                for a in range(nr):
+                    if basis[cand[a]] == 2 * n:
+                        has = True
+                if has:
+                    m = 0
+                    for a in range(nr):
+                        if basis[cand[a]] == 2 * n:
+                            cand[m] = cand[a]
+                            m += 1
+                    nr = m
+                    break
+        r = cand[0]
+        _pivot(T, r, entering, col)
+        leaving = basis[r]
+        basis[r] = entering
+        if leaving == 2 * n:
+            for i in range(n):
+                if basis[i] >= n and basis[i] < 2 * n:
+                    z[basis[i] - n] = max(T[i, nc - 1], 0.0)
+            return z, 0
+    return z, 2

@@ -60,7 +60,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from fricdamp.errors import ConvergenceError, ModelError
-from fricdamp.solvers.event_kernels import small_lu_solve
+from fricdamp.solvers.event_kernels import lemke_kernel, small_lu_solve
 
 log = logging.getLogger(__name__)
 
@@ -107,6 +107,10 @@ class Evaluator:
         #: compiled phase kernels of the system (None: the generic path)
         hook = getattr(system, "compiled_kernels", None)
         self.compiled = hook() if hook is not None else None
+        #: kernels for the switching and projection solves too (all normals constrained)
+        self._fused = (self.compiled if getattr(self.compiled, "fused_phases", False)
+                       and self.constrained.all() and hasattr(self.compiled, "solve_point")
+                       else None)
 
     def mass_factor(self, q):
         """A solver ``X -> M(q)^-1 X`` (the explicit inverse is cached for a constant mass)."""
@@ -170,6 +174,13 @@ class Evaluator:
         lam_N, lam_T : ndarray, shape (n_contacts, k)
         """
         self.n_solves += 1
+        ck = self._fused
+        if ck is not None:
+            ok, qdd, lamN, lamT = ck.solve_point(
+                pt.h, pt.WN, pt.WT, pt.wbN, pt.wbT, np.asarray(modes, dtype=np.int64),
+                np.asarray(sigma, dtype=float), given)
+            if ok:
+                return qdd, lamN, lamT
         p = self._plan(modes, sigma)
         ci, si, sl, ps, gi = p["ci"], p["si"], p["sl"], p["ps"], p["gi"]
         k = 1 if given is None else given.shape[1]
@@ -289,7 +300,7 @@ class Evaluator:
             return a, ascale, lamT[:, 0], lamN[:, 0]
 
         return decide_modes(pt.t, modes, candidates, must_slip, self.mu_s, self.mu_d, affine,
-                            verify, self.ambiguities)
+                            verify, self.ambiguities, compiled_lcp=self._fused is not None)
 
 
 class LinearDecider:
@@ -381,7 +392,7 @@ class LinearDecider:
 
 
 def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify,
-                 ambiguities: list | None = None):
+                 ambiguities: list | None = None, compiled_lcp: bool = False):
     """Consistent modes of the contacts with zero slip velocity after an event.
 
     Parameters
@@ -409,6 +420,8 @@ def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify,
         stuck contacts (the rule "stick whenever consistent" does not single one out: in a
         symmetric system round-off would pick which contact breaks away) a warning is
         logged and ``(t, [modes, ...])`` appended.
+    compiled_lcp : bool
+        Solve the friction LCPs with the compiled Lemke kernel (same algorithm).
 
     Returns
     -------
@@ -442,7 +455,7 @@ def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify,
         broke = np.zeros(cand.size, dtype=bool)  # breakaway set: bounded by mu_d
         for _ in range(cand.size + 1):
             mu_b = np.where(broke, mu_d[cand], mu_s[cand])
-            lam, a = solve_friction_lcp(G, b, H, c, mu_b)
+            lam, a = solve_friction_lcp(G, b, H, c, mu_b, compiled=compiled_lcp)
             scale = max(np.abs(b).max(), np.abs(G).max() * max(
                 np.abs(mu_b * c).max(), np.abs(lam).max()), 1e-300)
             slipping = np.abs(a) > 1e3 * _EPS * scale
@@ -511,13 +524,16 @@ def _consistent(new, decided, mu_s, verify):
 
 
 # ---------------------------------------------------------------- friction LCP
-def solve_friction_lcp(G, b, H, c, mu):
+def solve_friction_lcp(G, b, H, c, mu, compiled: bool = False):
     """Solve the friction complementarity problem of k contacts with zero slip velocity.
 
     Find tangential forces ``lambda`` (k,) and relative accelerations ``a = G lambda + b``
     with, per contact and ``n = H lambda + c`` (normal force magnitude):
     ``|lambda| <= mu n``; ``lambda = -mu n => a >= 0``; ``lambda = mu n => a <= 0``;
     ``a = 0`` in between.
+
+    With ``compiled``, Lemke's method runs compiled (:func:`~fricdamp.solvers.event_kernels.
+    lemke_kernel`, the same pivoting rules).
 
     Returns
     -------
@@ -541,7 +557,17 @@ def solve_friction_lcp(G, b, H, c, mu):
     QE = (m[:, None] * H - np.eye(k)) @ E
     A = np.block([[GE, np.eye(k)], [QE, np.zeros((k, k))]])
     q = np.concatenate([b - GE @ mc, mc - QE @ mc])
-    z = lemke(A, q)
+    if compiled:
+        z, status = lemke_kernel(np.ascontiguousarray(A), np.ascontiguousarray(q),
+                                 50 * (q.size + 1))
+        if status == 1:
+            raise ConvergenceError("Lemke's method ended on a ray: the friction complementarity "
+                                   "problem has no solution (check mu and the contact geometry)")
+        if status == 2:
+            raise ConvergenceError(f"Lemke's method did not terminate in {50 * (q.size + 1)} "
+                                   "pivots")
+    else:
+        z = lemke(A, q)
     r_plus = z[:k]
     lam = E @ (r_plus - mc)
     a = G @ lam + b
