@@ -33,6 +33,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import math
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -72,14 +73,26 @@ def blas_threads(n: int | None):
     Small dense solves (a few hundred unknowns) are dominated by thread start-up and
     contention on a 2-core machine: a 330 x 330 ``numpy.linalg.solve`` measured 19 ms with
     the default pool and 1.1 ms with one thread (benchmarks/bench_hb_ring.py reports both),
-    so the solvers default to one thread. Entering the context costs ~1 ms: use it once
-    around a whole run, never per solve.
+    so the solvers default to one thread.
+
+    The BLAS libraries of the process are found once (``threadpoolctl.ThreadpoolController``,
+    ~1.3 ms: it walks every loaded shared library) and found again only when modules were
+    imported since, which is how a new BLAS arrives; entering the context then costs ~20 us
+    instead of ~1.3 ms (a single-point harmonic balance costs a few ms).
     """
     if n is None:
         return contextlib.nullcontext()
-    from threadpoolctl import threadpool_limits
+    from threadpoolctl import ThreadpoolController
 
-    return threadpool_limits(limits=int(n), user_api="blas")
+    controller, n_modules = _BLAS_CONTROLLER
+    if controller is None or n_modules != len(sys.modules):
+        controller = ThreadpoolController()
+        _BLAS_CONTROLLER[:] = [controller, len(sys.modules)]
+    return controller.limit(limits=int(n), user_api="blas")
+
+
+#: (threadpoolctl controller, number of imported modules when it was built)
+_BLAS_CONTROLLER: list = [None, -1]
 
 
 # ---------------------------------------------------------------------------- linear algebra
