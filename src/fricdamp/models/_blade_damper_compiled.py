@@ -531,6 +531,13 @@ def _g_at(t, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sg
 
 
 @njit(cache=True)
+def event_value(j, i, t, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sgn, vel):
+    """Event function i at t on the dense output of step j (raises ``vel`` as _g does)."""
+    return _g_at(t, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sgn, vel,
+                 0.0, np.empty(_NY), np.empty(kinds.size), np.empty(kinds.size))
+
+
+@njit(cache=True)
 def refine_root(j, i, ta, tb, h_scale, tol_i, TA, TB, YOLD, FF, modes, sigma, par, kinds,
                 contacts, lim, sgn, vel):
     """Root of event function i (plus its round-off level tol_i) in (ta, tb] of step j:
@@ -1022,6 +1029,12 @@ class BladeDamperKernels:
         return self.mod.refine_root(int(j), int(i), float(ta), float(tb), float(h_scale),
                                     float(tol_i), TA, TB, YOLD, FF, modes, sigma, self.par,
                                     kinds, contacts, lim, sgn, vel)
+
+    def refine_value(self, j, i, t, TA, TB, YOLD, FF, modes, sigma, kinds, contacts, lim,
+                     sgn, vel):
+        """Event function i at t on the dense output of stored step j."""
+        return self.mod.event_value(int(j), int(i), float(t), TA, TB, YOLD, FF, modes, sigma,
+                                    self.par, kinds, contacts, lim, sgn, vel)
 
     def dense_many(self, TA, TB, YOLD, FF, idx, ts):
         """Dense output (17, n_t) at ``ts`` from the stored steps ``idx``."""

@@ -220,23 +220,27 @@ class NumericalPhase:
         self._sgn = np.where(self.modes[self.contacts] == STICK, 0,
                              self.modes[self.contacts]).astype(float)
         s = ev.system
-        self._has_power = np.array([np.isfinite(s.input_power(self.t0, q0, qd0)),
-                                    np.isfinite(s.viscous_power(self.t0, q0, qd0)), True])
+        #: compiled kernels of the system (ConstrainedSystem.compiled_kernels), if any
+        self._ck = getattr(ev, "compiled", None)
+        #: whole DOP853 steps in compiled code (kernels with ``phase_run``): the steps are kept
+        #: as arrays (start, end, start state, interpolation coefficients), not objects
+        self._fused = bool(getattr(self._ck, "fused_phases", False))
+        self._m = 0
+        self._ylast = None
+        if self._fused:  # the kernels integrate the input and viscous power themselves
+            self._has_power = np.ones(3, dtype=bool)
+        else:
+            self._has_power = np.array([np.isfinite(s.input_power(self.t0, q0, qd0)),
+                                        np.isfinite(s.viscous_power(self.t0, q0, qd0)), True])
         # the state's tolerances as given; the work integrals are not step-size controlled
         a = np.broadcast_to(np.asarray(atol, dtype=float), (2 * self.n,))
         self._atol = np.concatenate([a, np.full(3, 1e300)])
-        #: compiled kernels of the system (ConstrainedSystem.compiled_kernels), if any
-        self._ck = getattr(ev, "compiled", None)
         if self._ck is not None:
             self._modes_c = np.ascontiguousarray(self.modes, dtype=np.int64)
             self._lim_c = np.ascontiguousarray(self._lim, dtype=float)
             self._sgn_c = np.ascontiguousarray(self._sgn, dtype=float)
             self._kinds_c = np.ascontiguousarray(self.kinds, dtype=np.int64)
             self._contacts_c = np.ascontiguousarray(self.contacts, dtype=np.int64)
-        #: whole DOP853 steps in compiled code (kernels with ``phase_run``): the steps are kept
-        #: as arrays (start, end, start state, interpolation coefficients), not objects
-        self._fused = bool(getattr(self._ck, "fused_phases", False))
-        self._m = 0
 
     def _solve(self, t, y):
         n = self.n
@@ -314,6 +318,9 @@ class NumericalPhase:
 
     def y(self, t):
         """State at times t (n_t,) from the dense output, shape (2 n + 3, n_t)."""
+        if self._ylast is not None and self._ylast[0] is t:
+            return self._ylast[1]  # the same sample times again (outputs, then energy)
+        key = t
         t = np.atleast_1d(np.asarray(t, dtype=float))
         if self._fused:
             m = self._m
@@ -324,6 +331,8 @@ class NumericalPhase:
                                       np.ascontiguousarray(idx, dtype=np.int64),
                                       np.ascontiguousarray(t))
             out[:, t <= self.t0] = self.y0[:, None]
+            if isinstance(key, np.ndarray) and key.size > 1:
+                self._ylast = (key, out)
             return out
         out = np.empty((2 * self.n + 3, t.size))
         segs = self._segs
@@ -442,9 +451,15 @@ class NumericalPhase:
             def gfun(i, t, f=step):
                 return self._g(t, f(t))[0][i]
 
+            def gval(i, t, j=j):
+                return ck.refine_value(j, i, t, self._TA, self._TB, self._YOLD, self._FF,
+                                       self._modes_c, self.sigma, self._kinds_c,
+                                       self._contacts_c, self._lim_c, self._sgn_c,
+                                       self.vel_scale)
+
             def time_tol(i, t, h=tb - ta):
                 dt = 1e-6 * h
-                rate = abs(gfun(i, t + dt) - gfun(i, t - dt)) / (2 * dt)
+                rate = abs(gval(i, t + dt) - gval(i, t - dt)) / (2 * dt)
                 err = self.rtol * self._scale[i]
                 return min(err / rate, 1e-2 * h) if rate > 0 else 1e-2 * h
 

@@ -555,7 +555,10 @@ def solve_friction_lcp(G, b, H, c, mu, compiled: bool = False):
     mc = m * c
     GE = G @ E
     QE = (m[:, None] * H - np.eye(k)) @ E
-    A = np.block([[GE, np.eye(k)], [QE, np.zeros((k, k))]])
+    A = np.zeros((2 * k, 2 * k))
+    A[:k, :k] = GE
+    A[:k, k:] = np.eye(k)
+    A[k:, :k] = QE
     q = np.concatenate([b - GE @ mc, mc - QE @ mc])
     if compiled:
         z, status = lemke_kernel(np.ascontiguousarray(A), np.ascontiguousarray(q),
