@@ -279,6 +279,18 @@ class EventResult(ResultMixin):
 
 
 # =====================================================================================
+def _check_load_frequencies(system) -> None:
+    """Every HarmonicLoad of the structure has its ``omega``: a time-domain run needs it
+    (harmonic balance does not, so it is optional on the load)."""
+    structure = getattr(system, "system", None)
+    for i, ld in enumerate(getattr(structure, "loads", ()) or ()):
+        if getattr(ld, "omega", 0.0) is None and hasattr(ld, "harmonic"):
+            raise ModelError(
+                f"system.loads[{i}] ({ld!r}) has no omega: give the excitation frequency in "
+                f"rad/s (HarmonicLoad(amplitude, omega) or load.with_omega(omega)) for an "
+                f"event-driven run")
+
+
 def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
                     method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
                     max_events: int = 100_000, max_step: float = np.inf,
@@ -346,6 +358,7 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
         raise ModelError(f"system must be a ConstrainedSystem (e.g. CoulombSystem), got "
                          f"{type(system).__name__}")
     system.check()
+    _check_load_frequencies(system)
     span = as_finite_array("t_span", t_span)
     if span.shape != (2,) or not span[1] > span[0]:
         raise ModelError(f"t_span must be (t0, t1) with t1 > t0 [s], got {t_span!r}")
