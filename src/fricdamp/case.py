@@ -5,7 +5,7 @@ with ``type``), one ``[analysis.<name>]`` table per analysis to run, an optional
 table, and optional top-level ``name`` and ``description``. The schema of each table is a
 pydantic model registered by type or name in :mod:`fricdamp.runner`, so new model types, contact
 laws and analyses are added without touching this module or the command line. The keys are
-documented one by one in ``docs/cases.md``.
+documented one by one on the "Case files" page of the fricdamp documentation.
 
 Validation is strict: unknown keys (typos) are rejected with a "did you mean" hint, numbers must
 be numbers (``"1.0"`` is not), NaN and inf are rejected everywhere, and every range violation is
@@ -627,7 +627,9 @@ def _describe(err: dict, schema: type[BaseModel], where: str) -> str:
                 f"{', '.join(allowed)}")
     if typ == "missing":
         if not where and last in ("model", "analysis"):
-            return f"the case has no [{last}] table; it is required (see docs/cases.md)"
+            return (f"the case has no [{last}] table; it is required (see the \"Case files\" "
+                    f"page of the fricdamp documentation, or `fricdamp demo` for an annotated "
+                    f"case)")
         allowed = _constraints(schema, last)
         return f"{table} is missing the required key {last!r}" + (
             f" ({allowed})" if allowed else "")

@@ -11,7 +11,8 @@ Fits a Jenkins element, a four-parameter Iwan joint or paper 002's rough rotatio
 energy against amplitude, and writes ``fit.json`` (``parameters`` named with their units as in
 case files, ``confidence_95``, ``derived``, ``residual``, ``conditioning``, ``status``,
 ``warnings``) and ``fit.png`` (measured and fitted loops, and energies) into ``DIR``.
-docs/fit.md explains every key.
+The page "Fit a contact law to loops" of the fricdamp
+documentation explains every key.
 
 LOOPS are CSV files -- one loop each, columns ``time [s],displacement [m],force [N]`` or
 ``rotation [rad],torque [N m]`` (time or phase columns ignored; mm, um, mrad, deg, kN, N mm
@@ -47,7 +48,8 @@ def add_subparsers(subparsers) -> None:
                     "against amplitude, with 95 % confidence intervals. Writes fit.json "
                     "and fit.png.",
         epilog="Exit codes: 0 fitted; 3 fitted but unreliable (warnings say why); 2 invalid "
-               "input; 1 the fit failed or internal error. Keys: docs/fit.md.")
+               "input; 1 the fit failed or internal error. Keys: the page \"Fit a contact "
+               "law to loops\" of the fricdamp documentation.")
     s.add_argument("loops", nargs="+", metavar="LOOPS",
                    help="loop CSV files, energy tables or fricdamp identify output folders")
     s.add_argument("--model", required=True, choices=("jenkins", "iwan", "rough"),

@@ -13,7 +13,8 @@ accelerations -- a CSV table (time + channels, units in the header) or a Univers
 (dataset 58) -- and writes ``identification.json`` (dissipated energy, damping ratios, their
 95 % confidence intervals, block scatter, conditioning, status and warnings),
 ``summary.json`` (the same and the inputs), ``loop.csv`` (one period of the loop, averaged over
-the periods analysed) and ``loop.png`` into ``DIR``. docs/identify.md explains every key.
+the periods analysed) and ``loop.png`` into ``DIR``. The page
+"Identify a joint from accelerations" of the fricdamp documentation explains every key.
 
 The rig file (TOML, unknown keys rejected)::
 
@@ -344,7 +345,8 @@ def add_subparsers(subparsers) -> None:
                     "positions, sensitivities, delays and noise). Writes identification.json, "
                     "summary.json, loop.csv and loop.png.",
         epilog="Exit codes: 0 identified; 3 identified but unreliable (outputs written, the "
-               "warnings say why); 2 invalid input; 1 internal error. Keys: docs/identify.md.")
+               "warnings say why); 2 invalid input; 1 internal error. Keys: the page "
+               "\"Identify a joint from accelerations\" of the fricdamp documentation.")
     s.add_argument("signals", help="signal file: CSV (time + channels) or UFF (.uff/.unv)")
     s.add_argument("--rig", required=True, metavar="RIG.toml",
                    help="rig geometry, channel names and processing options (TOML)")
