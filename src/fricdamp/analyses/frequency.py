@@ -229,7 +229,7 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
                                     [b.amplitude[dof] / fa for b in bs], mk, ms=6, mfc="none",
                                     color="k", label=kind.replace("_", "-"))
             axes[0, 0].legend(fontsize="small")
-        axes[0, 0].set_ylabel(f"amplitude of {system.names[dof]} [{la}]")
+        axes[0, 0].set_ylabel(f"amplitude of {plot.dof_label(system.names[dof])} [{la}]")
         if friction:
             fe, le = plot.si_scale(diss, "J")
             axes[1, 0].plot(f, diss / fe, lw=1.5, color="C3")

@@ -150,6 +150,11 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
                      f"{system.names[dof]}: {exc}")
         decay, center = None, 0.0
         amp = zeta = freq = np.zeros(0)
+    if decay is not None and not decay.verdict.ok:
+        # e.g. two modes in the record: a decrement would mix both modes' damping
+        for reason in decay.verdict.reasons:
+            verdict = verdict.worse(decay.verdict.status, f"decay of {system.names[dof]}: "
+                                                          f"{reason}")
 
     e = res.energy
     mech = _mechanical_energy(e)
@@ -163,6 +168,7 @@ def run_free_decay(system, spec: FreeDecay, ctx: RunContext) -> AnalysisOutput:
         "amplitude_at_max_damping_m": float(amp[np.nanargmax(zeta)]) if zeta.size else None,
         "mean_damping_ratio": float(decay.mean_damping_ratio) if decay is not None else None,
         "envelope_model": decay.model if decay is not None else None,
+        "second_mode_ratio": float(decay.second_mode_ratio) if decay is not None else None,
         "oscillation_center_m": float(center),
         "initial_energy_J": float(mech[0]),
         "final_energy_J": float(mech[-1]),
@@ -269,9 +275,13 @@ def _identify_decay(t, x):
     three extrema (alternating maxima and minima; averaging the outer two cancels a linear
     decay of the amplitude). Returns (DecayResult, center [m]).
     """
+    import warnings
+
     from fricdamp.analysis.decay import decay_damping, find_peaks
 
-    decay = decay_damping(t, x, method="peaks", kind="auto")
+    with warnings.catch_warnings():     # a two-mode record: said by the analysis verdict
+        warnings.simplefilter("ignore", UserWarning)
+        decay = decay_damping(t, x, method="peaks", kind="auto")
     env = decay.envelope.amplitude
     if env.size >= 3 and abs(env[-1] - env[-2]) < 0.05 * env[-1]:
         pk = find_peaks(t, x, negative=True)
@@ -279,7 +289,10 @@ def _identify_decay(t, x):
         if v.size == 3 and sg[0] == sg[2] != sg[1]:
             center = 0.5 * (0.5 * (v[0] + v[2]) + v[1])
             if center != 0.0:
-                return decay_damping(t, x, method="peaks", kind="auto", center=center), center
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", UserWarning)
+                    return decay_damping(t, x, method="peaks", kind="auto",
+                                         center=center), center
     return decay, 0.0
 
 
