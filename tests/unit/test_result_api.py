@@ -191,6 +191,66 @@ def _modal_static():
     return solve_static_modal(basis, [s.contacts[0].law], Phi.T @ np.array([5.0, -3.0, 2.0]))
 
 
+def _fit_result():
+    from fricdamp.analysis.fit import fit_joint
+    from fricdamp.analysis.signals import Loop
+
+    law = Jenkins(2.0e5, 4.0)
+    loops = []
+    for a in (5e-5, 1e-4):
+        cyc = a * np.cos(2 * np.pi * np.arange(120) / 120)
+        u = np.concatenate((a * np.sin(np.linspace(0, np.pi / 2, 30)), cyc, cyc))
+        loops.append(Loop(cyc, law.drive(u)[-120:]))
+    return fit_joint(loops, model="jenkins")
+
+
+def _joint_identification():
+    from fricdamp.analysis.identify import JointRigGeometry, identify_joint
+
+    geom = JointRigGeometry(sensor_a=-0.09, sensor_b=0.0, joint_arm1=0.091, sensor_c=0.09,
+                            joint_arm2=0.091, beam2_mass=0.44, beam2_inertia=1.55e-3)
+    f0, n_per, spp = 30.0, 6, 128
+    t = np.arange(n_per * spp) / (f0 * spp)
+    w = 2 * np.pi * f0
+    th1, th2 = 1e-3 * np.sin(w * t), 7e-4 * np.sin(w * t - 0.25)
+    a1, a2 = -w ** 2 * th1, -w ** 2 * th2
+    ax = -w ** 2 * 1.5e-4 * np.sin(w * t + 0.3)
+    w1 = w * 1e-3 * np.cos(w * t)
+    rel = th1 - th2
+    ga = ax * np.cos(th1) + geom.sensor_a * a1
+    gb = ax * np.cos(th1) + geom.sensor_b * a1
+    gc = (ax * np.cos(th2) + geom.joint_arm1 * (a1 * np.cos(rel) - w1 ** 2 * np.sin(rel))
+          + (geom.sensor_c + geom.joint_arm2) * a2)
+    return identify_joint(t, ga, gb, gc, geom, frequency_hz=f0)
+
+
+def _standin_quadratic(x, y):
+    """f = 1 + (x-1)^2 + 2 (y-3)^2 [m]: minimum 1 m at x = 1, y = 3."""
+    return {"f_m": 1.0 + (x - 1.0) ** 2 + 2.0 * (y - 3.0) ** 2}
+
+
+def _optimization_result():
+    from fricdamp.studies.optimize import optimize
+
+    return optimize(_standin_quadratic, {"x": (-2.0, 4.0), "y": (0.0, 5.0)}, minimize="f_m",
+                    method="nelder-mead", tol=1e-3, serial=True)
+
+
+def _floquet_result():
+    from fricdamp.solvers.hb_stability import hill_stability
+
+    return hill_stability(_two_dof(), _steady_state())
+
+
+def _branch_stability():
+    from fricdamp.solvers.hb import frequency_response
+    from fricdamp.solvers.hb_stability import BranchStability
+
+    fr = frequency_response(_two_dof(), 0.9, 1.3, harmonics=3, samples=32, stability=True)
+    return BranchStability(fr.floquet_exponents, fr.stable, fr.bifurcations,
+                           fr.stability_error, fr.stability_converged, (0,))
+
+
 BUILDERS = {
     "TimeResult": _time_result,
     "EventResult": _event_result,
@@ -208,6 +268,11 @@ BUILDERS = {
     "ModalTransientResult": _modal_transient,
     "StaticContactResult": _static_contact,
     "ModalStaticResult": _modal_static,
+    "FitResult": _fit_result,
+    "JointIdentification": _joint_identification,
+    "OptimizationResult": _optimization_result,
+    "FloquetResult": _floquet_result,
+    "BranchStability": _branch_stability,
 }
 
 
@@ -366,3 +431,29 @@ def test_decay_of_two_modes_warns_and_is_unreliable():
         warnings.simplefilter("error")
         one = _decay_result()
     assert one.verdict.ok and one.second_mode_ratio < 0.02
+
+
+def test_new_result_datasets_against_closed_forms():
+    """FitResult: the exact Jenkins loops give back k = 2e5 N/m and F_s = 4 N (1e-6) in the
+    dataset, predicted force = measured (1e-6 of F_s); FloquetResult of a Duffing
+    oscillator: |mu| = exp(Re(lambda) T), and the exponents sum to -c/m = -0.02 (Liouville:
+    a stiffness nonlinearity adds no trace)."""
+    ds = _fit_result().to_xarray()
+    assert float(ds["stiffness_N_per_m"]) == pytest.approx(2.0e5, rel=1e-6)
+    assert float(ds["slip_force_N"]) == pytest.approx(4.0, rel=1e-6)
+    assert ds["stiffness_N_per_m"].attrs["units"] == "N/m"
+    np.testing.assert_allclose(ds["predicted_force"], ds["force"], atol=4e-6)
+
+    from fricdamp.contact import CubicSpring
+    from fricdamp.solvers.hb import harmonic_balance
+    from fricdamp.solvers.hb_stability import hill_stability
+
+    duffing = MechanicalSystem(M=[[1.0]], K=[[1.0]], D=[[0.02]],
+                               contacts=(ContactElement(CubicSpring(0.5), [[1.0]]),),
+                               loads=(HarmonicLoad([0.03]),))
+    fl = hill_stability(duffing, harmonic_balance(duffing, 0.8, harmonics=5))
+    d = fl.to_xarray()
+    assert float(d["exponent_real"].sum()) == pytest.approx(-0.02, abs=1e-9)
+    np.testing.assert_allclose(d["multiplier_modulus"],
+                               np.exp(d["exponent_real"] * 2 * np.pi / 0.8), rtol=1e-12)
+    assert d.attrs["frequency_hz"] == pytest.approx(0.8 / (2 * np.pi), rel=1e-15)

@@ -54,6 +54,7 @@ from fricdamp.analysis.energy import loop_area
 from fricdamp.analysis.signals import Loop, read_fit_input
 from fricdamp.contact.base import ContactLaw
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
+from fricdamp.results import ResultMixin
 
 log = logging.getLogger(__name__)
 
@@ -310,8 +311,21 @@ def _make_spec(model, rotational, loops, energy, fixed, initial):
 
 
 # ============================================================================ result
-@dataclass(frozen=True)
-class FitResult:
+#: Unit of a parameter from its name's suffix (longest first); dimensionless otherwise.
+_PARAM_UNITS = (("_Nm_per_rad", "N m/rad"), ("_N_per_m", "N/m"), ("_per_m1p5", "1/m^1.5"),
+                ("_per_m2", "1/m^2"), ("_Nm", "N m"), ("_Pa", "Pa"), ("_N", "N"),
+                ("_m", "m"), ("_rad", "rad"))
+
+
+def _param_unit(name: str) -> str:
+    for suffix, unit in _PARAM_UNITS:
+        if name.endswith(suffix):
+            return unit
+    return "1"
+
+
+@dataclass(frozen=True, repr=False)
+class FitResult(ResultMixin):
     """A fitted joint model.
 
     Attributes
@@ -391,6 +405,70 @@ class FitResult:
                       "status": self.status, "warnings": list(self.warnings),
                       "success": self.success, "message": self.message, "nfev": self.nfev,
                       "n_loops": len(self.loops), "rotational": self.rotational})
+
+    def __repr__(self) -> str:
+        from fricdamp.results import summary_repr
+
+        head = summary_repr(self, skip=("confidence_95", "derived", "derived_confidence_95",
+                                        "residual", "conditioning", "parameters", "message"))
+        lines = [head[:-1] + ","] if head.endswith(")") else [head]
+        for k, v in self.parameters.items():
+            lo, hi = self.confidence_95.get(k, (float("nan"), float("nan")))
+            lines.append(f"    {k}={float(v):.6g} (95 %: {float(lo):.4g} to {float(hi):.4g}),")
+        lines[-1] = lines[-1].rstrip(",") + ")"
+        return "\n".join(lines)
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        est = {"rms_relative": self.residual.get("rms_relative")}
+        reasons = tuple(self.warnings) if self.status != "ok" else ()
+        if self.status != "ok" and not reasons:
+            reasons = (f"the fit is {self.status}",)
+        return status_verdict(self.success, self.message, est, reasons=reasons)
+
+    def to_xarray(self):
+        """``xarray.Dataset``: each fitted and derived parameter as a scalar variable named as
+        in ``parameters`` (unit from the name's suffix), its 95 % interval as ``<name>_lo``
+        and ``<name>_hi``; the loops' samples along ``sample`` (``displacement``, ``force``,
+        ``predicted_force``, ``loop``) and the fitted energies along ``amplitude_point``."""
+        import xarray as xr
+
+        data = {}
+        for values, ci in ((self.parameters, self.confidence_95),
+                           (self.derived, self.derived_confidence_95)):
+            for k, v in values.items():
+                if not isinstance(v, (int, float, np.integer, np.floating)):
+                    continue
+                u = {"units": _param_unit(k)}
+                data[k] = ((), float(v), u)
+                if k in ci:
+                    lo, hi = ci[k]
+                    data[f"{k}_lo"] = ((), float(lo), u)
+                    data[f"{k}_hi"] = ((), float(hi), u)
+        xu, fu = ("rad", "N m") if self.rotational else ("m", "N")
+        if self.loops:
+            data["displacement"] = ("sample", np.concatenate(
+                [lp.displacement for lp in self.loops]), {"units": xu})
+            data["force"] = ("sample", np.concatenate([lp.force for lp in self.loops]),
+                             {"units": fu})
+            data["predicted_force"] = ("sample", np.concatenate(
+                [np.asarray(p, float) for p in self.predicted]), {"units": fu})
+            data["loop"] = ("sample", np.concatenate(
+                [np.full(lp.force.size, i, np.int32) for i, lp in enumerate(self.loops)]))
+        if self.energy_data is not None:
+            a, e = self.energy_data
+            data["energy_amplitude"] = ("amplitude_point", np.asarray(a, float),
+                                        {"units": xu})
+            data["energy"] = ("amplitude_point", np.asarray(e, float), {"units": "J"})
+            data["predicted_energy"] = ("amplitude_point", np.asarray(
+                _model_energy(self, np.asarray(a, float)), float), {"units": "J"})
+        rms = self.residual.get("rms_relative")
+        return xr.Dataset(data, attrs={
+            "model": self.model, "status": self.status, "success": int(self.success),
+            "message": self.message, "warnings": "\n".join(self.warnings),
+            "rotational": int(self.rotational), "nfev": int(self.nfev),
+            "rms_relative": float(rms) if rms is not None else float("nan")})
 
     def plot(self, fig=None):
         """Measured and fitted loops (and energies); returns the figure."""

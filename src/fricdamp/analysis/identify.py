@@ -103,6 +103,7 @@ from fricdamp.analysis._identify_window import (
 )
 from fricdamp.analysis.damping import paper002_damping_ratio
 from fricdamp.errors import ModelError, as_finite_array, check_positive
+from fricdamp.results import ResultMixin
 
 log = logging.getLogger(__name__)
 
@@ -313,8 +314,8 @@ def joint_torque(geometry: JointRigGeometry, theta1, theta2, theta1_dot, theta1_
 
 
 # ============================================================================ result
-@dataclass(frozen=True)
-class JointIdentification:
+@dataclass(frozen=True, repr=False)
+class JointIdentification(ResultMixin):
     """Torque-rotation loop of a joint identified from accelerometer signals.
 
     Attributes
@@ -475,6 +476,49 @@ class JointIdentification:
         if self.force_check is not None:
             out.update(self.force_check.to_dict())
         return out
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        est = {}
+        if self.trust is not None:
+            lo, hi = self.trust.energy_interval
+            if self.dissipated_energy:
+                est["energy_interval_relative"] = float(
+                    0.5 * (hi - lo) / abs(self.dissipated_energy))
+        if self.status == "ok":
+            reasons = ()
+        elif self.status == "unchecked":
+            reasons = ("identified without diagnostics (diagnostics=False): its uncertainty is "
+                       "unknown",)
+        else:
+            reasons = tuple(self.warnings) or ("the identification is unreliable",)
+        return status_verdict(True, "", est, reasons=reasons)
+
+    def to_xarray(self):
+        """``xarray.Dataset`` along ``time`` [s] of the analysed window: ``theta1``,
+        ``theta2``, ``rotation`` [rad], ``x1`` [m], ``torque`` [N m]; ``cycle_energy`` [J]
+        along ``period``; the key numbers of :meth:`to_dict` (units in their names, e.g.
+        ``dissipated_energy_J``, ``frequency_hz``) as attributes."""
+        import xarray as xr
+
+        data = {"theta1": ("time", self.theta1, {"units": "rad"}),
+                "theta2": ("time", self.theta2, {"units": "rad"}),
+                "rotation": ("time", self.rotation, {"units": "rad"}),
+                "x1": ("time", self.x1, {"units": "m"}),
+                "torque": ("time", self.torque, {"units": "N m"}),
+                "cycle_energy": ("period", np.asarray(self.cycle_energy, float),
+                                 {"units": "J"})}
+        attrs = {}
+        for k, v in self.to_dict().items():
+            if isinstance(v, bool):
+                attrs[k] = int(v)
+            elif isinstance(v, (int, float, str)):
+                attrs[k] = v
+            elif isinstance(v, (list, tuple)) and all(isinstance(x, str) for x in v):
+                attrs[k] = "\n".join(v)
+        return xr.Dataset(data, coords={"time": ("time", self.time, {"units": "s"})},
+                          attrs=attrs)
 
     def plot(self, ax=None, *, label: str | None = None, all_periods: bool = False):
         """Torque vs relative rotation (mrad); returns the axes."""

@@ -79,6 +79,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from fricdamp.errors import ModelError
+from fricdamp.results import ResultMixin
 from fricdamp.solvers._hb_formulations import _dense, _Full, _Setup
 from fricdamp.solvers._hb_results import Bifurcation, SteadyState, peak_amplitude
 from fricdamp.solvers.continuation import blas_threads, locate_on_branch
@@ -289,8 +290,19 @@ def _is_stable(ex, omega, tol):
 
 
 # ============================================================================ one point
-@dataclass(frozen=True, eq=False)
-class FloquetResult:
+def _exponent_vars(ex: np.ndarray, dims: tuple) -> dict:
+    """Real part [1/s] and imaginary part [rad/s] and [Hz] of Floquet exponents as Dataset
+    variables."""
+    return {"exponent_real": (dims, np.real(ex), {"units": "1/s",
+                                                  "long_name": "growth rate Re(lambda)"}),
+            "exponent_imag": (dims, np.imag(ex), {"units": "rad/s",
+                                                  "long_name": "Im(lambda)"}),
+            "exponent_imag_hz": (dims, np.imag(ex) / (2 * np.pi),
+                                 {"units": "Hz", "long_name": "Im(lambda) / 2 pi"})}
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class FloquetResult(ResultMixin):
     """Stability of one periodic solution by Hill's method (:func:`hill_stability`).
 
     Attributes
@@ -332,6 +344,72 @@ class FloquetResult:
     check_harmonics: int | None = None
     exponent_error: float = float("nan")
     verdict_agrees: bool | None = None
+
+    @property
+    def frequency_hz(self) -> float:
+        """Fundamental frequency [Hz]."""
+        return self.omega / (2 * np.pi)
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        reasons = []
+        if self.verdict_agrees is False:
+            reasons.append(f"the stability verdict changes with {self.check_harmonics} "
+                           f"harmonics instead of {self.harmonics}: raise harmonics")
+        if self.sorting_margin <= 0:
+            reasons.append(f"the choice of the Floquet exponents is ambiguous (sorting margin "
+                           f"{self.sorting_margin:.3g}): raise harmonics or try "
+                           f"sorting='imaginary'")
+        est = {"exponent_error_relative": float(self.exponent_error / self.omega)
+               if self.omega > 0 and np.isfinite(self.exponent_error) else None,
+               "sorting_margin": float(self.sorting_margin)}
+        return status_verdict(True, "", est, reasons=reasons)
+
+    def to_xarray(self):
+        """``xarray.Dataset`` over the retained exponents: ``exponent_real`` [1/s],
+        ``exponent_imag`` [rad/s] (``exponent_imag_hz`` [Hz]), ``multiplier_real`` and
+        ``multiplier_imag`` [-]; the frequency in Hz (``frequency_hz``) and [rad/s]
+        (``omega_rad_s``) as attributes."""
+        import xarray as xr
+
+        dims = ("exponent",)
+        data = _exponent_vars(self.exponents, dims)
+        data["multiplier_real"] = (dims, np.real(self.multipliers), {"units": "1"})
+        data["multiplier_imag"] = (dims, np.imag(self.multipliers), {"units": "1"})
+        data["multiplier_modulus"] = (dims, np.abs(self.multipliers), {"units": "1"})
+        return xr.Dataset(data, attrs={
+            "stable": int(self.stable), "max_real_1_per_s": float(self.max_real),
+            "frequency_hz": float(self.frequency_hz), "omega_rad_s": float(self.omega),
+            "harmonics": int(self.harmonics), "sorting": self.sorting,
+            "sorting_margin": float(self.sorting_margin),
+            "check_harmonics": -1 if self.check_harmonics is None else
+            int(self.check_harmonics),
+            "exponent_error_1_per_s": float(self.exponent_error)})
+
+    def plot(self, ax=None):
+        """Floquet multipliers in the complex plane with the unit circle (outside:
+        unstable); returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(4.6, 4.4))
+        phi = np.linspace(0.0, 2 * np.pi, 361)
+        ax.plot(np.cos(phi), np.sin(phi), "k-", lw=0.8, label="|mu| = 1")
+        out = np.abs(self.multipliers) > 1.0 + 1e-12
+        ax.plot(self.multipliers.real[~out], self.multipliers.imag[~out], "o", color="C0",
+                mfc="none", label="stable side")
+        if np.any(out):
+            ax.plot(self.multipliers.real[out], self.multipliers.imag[out], "x", color="C3",
+                    ms=8, label="outside: unstable")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("Re(mu)")
+        ax.set_ylabel("Im(mu)")
+        ax.set_title(f"Floquet multipliers at {self.frequency_hz:.4g} Hz "
+                     f"({'stable' if self.stable else 'unstable'})")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="small")
+        return ax
 
 
 def _match_error(a, b, omega):
@@ -456,9 +534,24 @@ def hill_stability(system: MechanicalSystem, state: SteadyState, *,
 
 
 # ============================================================================ branches
-@dataclass(frozen=True, eq=False)
-class BranchStability:
-    """Stability of every point of a continued branch (filled into FrequencyResponse)."""
+@dataclass(frozen=True, eq=False, repr=False)
+class BranchStability(ResultMixin):
+    """Stability of every point of a continued branch (filled into FrequencyResponse).
+
+    Attributes
+    ----------
+    exponents : ndarray, shape (n_points, 2 n_dof), complex
+        Floquet exponents [1/s] of every point.
+    stable : ndarray, shape (n_points,), bool
+    bifurcations : tuple of Bifurcation
+    exponent_error : float
+        [1/s], largest change of the exponents with one more harmonic over the checked
+        points (NaN without a check).
+    verdict_agrees : bool or None
+        The check with one more harmonic gives the same verdicts.
+    checked_points : tuple of int
+        Indices of the points checked.
+    """
 
     exponents: np.ndarray              # (n_points, 2 n_dof) complex [1/s]
     stable: np.ndarray                 # (n_points,) bool
@@ -466,6 +559,54 @@ class BranchStability:
     exponent_error: float              # [1/s], largest over the checked points
     verdict_agrees: bool | None
     checked_points: tuple[int, ...]
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        reasons = []
+        if self.verdict_agrees is False:
+            reasons.append("the stability verdicts change with one more harmonic: raise "
+                           "harmonics")
+        return status_verdict(True, "", {}, reasons=reasons)
+
+    def to_xarray(self):
+        """``xarray.Dataset`` over (point, exponent): ``exponent_real`` [1/s],
+        ``exponent_imag`` [rad/s] (and [Hz]), ``max_real`` [1/s], ``stable`` (int8); the bifurcation
+        types and points as attributes."""
+        import xarray as xr
+
+        ex = np.asarray(self.exponents)
+        data = _exponent_vars(ex, ("point", "exponent"))
+        data["max_real"] = ("point", ex.real.max(axis=1) if ex.size else
+                            np.zeros(ex.shape[0]), {"units": "1/s"})
+        data["stable"] = ("point", np.asarray(self.stable, np.int8))
+        return xr.Dataset(data, attrs={
+            "bifurcation_types": ",".join(b.type for b in self.bifurcations),
+            "bifurcation_frequency_hz": ",".join(f"{b.omega / (2 * np.pi):.12g}"
+                                                 for b in self.bifurcations),
+            "exponent_error_1_per_s": float(self.exponent_error),
+            "checked_points": ",".join(str(int(i)) for i in self.checked_points)})
+
+    def plot(self, ax=None):
+        """Largest real part of the Floquet exponents along the branch; returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5.5, 3.8))
+        ex = np.asarray(self.exponents)
+        mr = ex.real.max(axis=1) if ex.size else np.zeros(ex.shape[0])
+        i = np.arange(mr.size)
+        st = np.asarray(self.stable, bool)
+        ax.plot(i, mr, "-", color="0.6", lw=0.8)
+        ax.plot(i[st], mr[st], ".", color="C0", label="stable")
+        if np.any(~st):
+            ax.plot(i[~st], mr[~st], ".", color="C3", label="unstable")
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_xlabel("branch point")
+        ax.set_ylabel("max Re(lambda) [1/s]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="small")
+        return ax
 
 
 def _kind(ex_u, omega):

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from fricdamp.errors import CaseError
+from fricdamp.results import ResultMixin
 from fricdamp.studies.grid import check_bounds
 from fricdamp.studies.sweep import (
     RESERVED,
@@ -55,8 +56,8 @@ METHODS = {"differential_evolution": "differential_evolution", "de": "differenti
            "nelder-mead": "nelder-mead", "nelder_mead": "nelder-mead", "nm": "nelder-mead"}
 
 
-@dataclass(frozen=True)
-class OptimizationResult:
+@dataclass(frozen=True, repr=False)
+class OptimizationResult(ResultMixin):
     """Result of :func:`optimize`.
 
     Attributes
@@ -104,8 +105,45 @@ class OptimizationResult:
     elapsed_s: float
 
     def to_xarray(self):
-        """The evaluation history."""
-        return self.history
+        """The evaluation history, every floating-point variable with a ``units`` attribute:
+        the unit a parameter or result name implies by its suffix (``_m``, ``_N``, ``_hz``,
+        ... as in case files; ``"1"`` without one), ``wall_time_s`` in s."""
+        from fricdamp.case import unit_of
+
+        ds = self.history.copy()
+        obj_unit = unit_of(self.objective) or "1"
+        for name in ds.variables:
+            var = ds[name]
+            if var.dtype.kind != "f" or "units" in var.attrs:
+                continue
+            unit = obj_unit if name in ("objective", "best_so_far") else (
+                unit_of(str(name)) or "1")
+            ds[name].attrs["units"] = unit
+        return ds
+
+    def _judge(self):
+        from fricdamp.results import status_verdict
+
+        reasons = ()
+        if self.n_failed:
+            reasons = (f"{self.n_failed} of {self.n_evaluations} evaluations failed (see "
+                       f"failures): the optimum was searched around them",)
+        return status_verdict(self.success, self.message, {}, reasons=reasons)
+
+    def plot(self, ax=None):
+        """Objective of every evaluation and the best so far; returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4))
+        h = self.history
+        ax.plot(h["evaluation"], h["objective"], ".", alpha=0.5, label="evaluations")
+        ax.plot(h["evaluation"], h["best_so_far"], "-", label="best so far")
+        ax.set_xlabel("evaluation")
+        ax.set_ylabel(self.objective)
+        ax.legend()
+        ax.grid(True, alpha=0.3)
+        return ax
 
     def summary(self) -> dict:
         """JSON-able summary (what ``optimum.json`` holds)."""
