@@ -16,7 +16,7 @@ from pydantic import Field, model_validator
 
 from fricdamp.analyses.timedomain import _check_dof, _check_vector
 from fricdamp.case import NonNegative, Positive, Section
-from fricdamp.errors import ConvergenceError
+from fricdamp.errors import ConvergenceError, ModelError
 from fricdamp.runner import (
     AnalysisOutput,
     BuildContext,
@@ -76,6 +76,10 @@ class FRF(Section):
     max_points: int = Field(2000, ge=10, le=100_000, description="largest number of points")
     stability: bool = Field(False, description="Hill stability of every point and detection of "
                                                "folds, branch points and Neimark-Sacker points")
+    backbone_mode: int | None = Field(
+        None, ge=1, le=1000, description="also compute this nonlinear mode (1 = lowest, "
+                                         "contacts stuck) over the curve's amplitudes and draw "
+                                         "its backbone on the FRF")
 
     @model_validator(mode="after")
     def _check(self):
@@ -201,6 +205,13 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
             notes.append("some bifurcations could not be located between their two points; "
                          "the nearer point is reported (located = false)")
     arrays = {"curve": res.to_xarray()}
+    backbone = None
+    if spec.backbone_mode is not None:
+        backbone = _backbone(system, spec, res, dof, amp, ipk, peak_truncated, summary, notes)
+        if backbone is not None:      # its own names: merged with the curve in results.nc
+            bds = backbone.to_xarray()
+            arrays["backbone"] = bds.rename(
+                {v: f"backbone_{v}" for v in [*bds.data_vars, "amplitude"]})
 
     def figures():
         from fricdamp import plot
@@ -229,6 +240,11 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
                                     [b.amplitude[dof] / fa for b in bs], mk, ms=6, mfc="none",
                                     color="k", label=kind.replace("_", "-"))
             axes[0, 0].legend(fontsize="small")
+        if backbone is not None:
+            axes[0, 0].plot(summary["backbone_frequency_hz"],
+                            np.asarray(summary["backbone_amplitude_m"]) / fa, "--", color="k",
+                            lw=1.0, label=f"nonlinear mode {spec.backbone_mode} (backbone)")
+            axes[0, 0].legend(fontsize="small")
         axes[0, 0].set_ylabel(f"amplitude of {plot.dof_label(system.names[dof])} [{la}]")
         if friction:
             fe, le = plot.si_scale(diss, "J")
@@ -243,6 +259,43 @@ def run_frf(system, spec: FRF, ctx: RunContext) -> AnalysisOutput:
 
     return AnalysisOutput(summary=summary, arrays=arrays, figures=figures, headline=headline,
                           notes=notes, verdict=verdict)
+
+
+def _backbone(system, spec: FRF, res, dof: int, amp, ipk: int, peak_truncated: bool,
+              summary: dict, notes: list):
+    """Nonlinear mode ``spec.backbone_mode`` (EPMC) at 24 fundamental amplitudes of the
+    response DOF, geometric from 1/100 of the curve's largest fundamental to 1.2 times it;
+    adds the ``backbone_*`` keys to ``summary`` and returns the NonlinearModes (None, with a
+    note, when no point converges)."""
+    from fricdamp.solvers.nma import nonlinear_modes
+
+    top = float(np.max(res.fundamental[:, dof]))
+    try:
+        nm = nonlinear_modes(system.with_loads(), spec.backbone_mode - 1,
+                             np.geomspace(top / 100, 1.2 * top, 24), harmonics=spec.harmonics,
+                             samples=spec.samples, amplitude_dof=dof)
+    except (ModelError, ConvergenceError) as exc:
+        notes.append(f"the backbone (nonlinear mode {spec.backbone_mode}) failed: {exc}")
+        return None
+    if nm.amplitude.size == 0:
+        notes.append(f"the backbone (nonlinear mode {spec.backbone_mode}) has no converged "
+                     f"point ({nm.message})")
+        return None
+    a_bb = nm.dof_amplitude[:, dof]
+    at_peak = None
+    if not peak_truncated and a_bb[0] <= amp[ipk] <= a_bb[-1] and np.all(np.diff(a_bb) > 0):
+        at_peak = float(np.interp(amp[ipk], a_bb, nm.frequency_hz))
+    summary.update({
+        "backbone_mode": spec.backbone_mode,
+        "backbone_frequency_hz": nm.frequency_hz,
+        "backbone_amplitude_m": a_bb,
+        "backbone_damping_ratio": nm.damping_ratio,
+        "backbone_frequency_at_peak_hz": at_peak,
+    })
+    if not nm.success:
+        notes.append(f"the backbone stopped at {nm.amplitude[-1]:.3g} m of {1.2 * top:.3g} m "
+                     f"({nm.message})")
+    return nm
 
 
 # ------------------------------------------------------------------------------- NMA
