@@ -279,6 +279,58 @@ class EventResult(ResultMixin):
 
 
 # =====================================================================================
+def _progress_default() -> bool:
+    import os
+    import sys
+
+    return bool(sys.stderr.isatty()) and not os.environ.get("CI")
+
+
+class _EventProgress:
+    """tqdm bar of an event-driven run: the share of ``t_span`` done and the events so far.
+
+    It wraps the run's per-phase record (called once per phase) and touches tqdm at most
+    every ``interval`` seconds of wall time, so the event loop pays one clock read per phase;
+    the bar shows up only after ``delay`` seconds (short runs print nothing). tqdm is
+    imported only when the bar is asked for.
+    """
+
+    def __init__(self, run, t0: float, t1: float, *, interval: float = 0.2,
+                 delay: float = 1.0):
+        import sys
+
+        from tqdm.auto import tqdm
+
+        self.run, self.t0, self.span, self.interval = run, t0, t1 - t0, interval
+        self.bar = tqdm(total=1000, desc="event-driven", leave=False, file=sys.stderr,
+                        delay=delay, mininterval=interval,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| "
+                                   "[{elapsed}<{remaining}{postfix}]")
+        self.n_updates = 0
+        self._next = _time.perf_counter() + interval
+        record = run._record
+
+        def _record(phase, t_stop, last):
+            out = record(phase, t_stop, last)
+            now = _time.perf_counter()
+            if now >= self._next:
+                self._next = now + self.interval
+                self.update(t_stop)
+            return out
+
+        run._record = _record
+
+    def update(self, t: float) -> None:
+        self.n_updates += 1
+        done = int(1000 * min(max((t - self.t0) / self.span, 0.0), 1.0))
+        if done > self.bar.n:
+            self.bar.update(done - self.bar.n)
+        self.bar.set_postfix_str(f"{self.run.n_events} events, t = {t:.6g} s", refresh=False)
+
+    def close(self) -> None:
+        self.bar.close()
+
+
 def _check_load_frequencies(system) -> None:
     """Every HarmonicLoad of the structure has its ``omega``: a time-domain run needs it
     (harmonic balance does not, so it is optional on the load)."""
@@ -294,7 +346,7 @@ def _check_load_frequencies(system) -> None:
 def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
                     method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
                     max_events: int = 100_000, max_step: float = np.inf,
-                    throw: bool = True) -> EventResult:
+                    throw: bool = True, progress: bool | None = None) -> EventResult:
     """Integrate a stick-slip system exactly from event to event.
 
     Parameters
@@ -327,6 +379,10 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
     throw : bool
         Raise :class:`ConvergenceError` on failure or when ``max_events`` is reached (default);
         with False return the history so far with ``success=False``.
+    progress : bool, optional
+        Show a tqdm progress bar (share of ``t_span`` done, events so far) on long runs: it
+        appears after 1 s and is refreshed at most every 0.2 s; default: only when stderr is
+        a terminal and outside CI.
 
     Returns
     -------
@@ -386,6 +442,8 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
         raise ModelError("method='exact' needs a system with a linear form (a CoulombSystem "
                          "with harmonic loads only); use method='dop853'")
     run = _Run(system, lf, t0, t1, te, rtol, atol, max_step)
+    show = _progress_default() if progress is None else bool(progress)
+    bar = _EventProgress(run, t0, t1) if show else None
     status, message = 0, "finished"
     try:
         run.start(y[:n], y[n:])
@@ -394,6 +452,9 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
         if throw:
             raise
         status, message = -1, str(exc)
+    finally:
+        if bar is not None:
+            bar.close()
     if status == 1 and throw:
         raise ConvergenceError(message)
     res = run.result(status, message, _time.perf_counter() - wall)
