@@ -204,7 +204,7 @@ def _fit_result():
     return fit_joint(loops, model="jenkins")
 
 
-def _joint_identification():
+def _joint_identification(diagnostics=True):
     from fricdamp.analysis.identify import JointRigGeometry, identify_joint
 
     geom = JointRigGeometry(sensor_a=-0.09, sensor_b=0.0, joint_arm1=0.091, sensor_c=0.09,
@@ -221,7 +221,7 @@ def _joint_identification():
     gb = ax * np.cos(th1) + geom.sensor_b * a1
     gc = (ax * np.cos(th2) + geom.joint_arm1 * (a1 * np.cos(rel) - w1 ** 2 * np.sin(rel))
           + (geom.sensor_c + geom.joint_arm2) * a2)
-    return identify_joint(t, ga, gb, gc, geom, frequency_hz=f0)
+    return identify_joint(t, ga, gb, gc, geom, frequency_hz=f0, diagnostics=diagnostics)
 
 
 def _standin_quadratic(x, y):
@@ -457,3 +457,12 @@ def test_new_result_datasets_against_closed_forms():
     np.testing.assert_allclose(d["multiplier_modulus"],
                                np.exp(d["exponent_real"] * 2 * np.pi / 0.8), rtol=1e-12)
     assert d.attrs["frequency_hz"] == pytest.approx(0.8 / (2 * np.pi), rel=1e-15)
+
+
+def test_identification_without_diagnostics_is_not_ok():
+    """diagnostics=False leaves the uncertainty unknown: the verdict says so (unreliable);
+    the conformance test's identification with diagnostics is ok."""
+    res = _joint_identification(diagnostics=False)
+    assert res.status == "unchecked"
+    assert res.verdict.status == "unreliable"
+    assert "diagnostics=False" in res.verdict.reasons[0]
