@@ -24,7 +24,10 @@ joint deep into gross slip with rotations of 0.1 rad and more. There the joint t
 of the inertial torque of beam 2, which the paper's linear kinematics (B.1)-(B.10) cannot
 resolve (a few % error at 60 N, 10 % at 100 N) while the exact kinematics can; above ~200 N
 beam 2 swings slowly by tens of degrees and no periodic steady state is reached within the
-simulated time, so the sweep stops at 100 N.
+simulated time, so the sweep stops at 100 N. That is the default, free-hanging rig; with
+beam 1 mounted stiffly (``RigParameters.paper_load_case()``, example case
+``examples/cases/rotational_joint_paper_load.toml``) the paper's 60 N land in micro-slip and
+500 N in partial slip, as its Figs 16-17 put them (docs: "Rotational joint" case page).
 """
 
 from __future__ import annotations
