@@ -37,12 +37,14 @@ def environment(name: str) -> Path:
     version = next((ln.split("==")[1] for ln in pins if ln.lower().startswith(name)), "x")
     venv = root / f"{name}-{version}"
     python = venv / "bin" / "python"
-    if not python.exists():
+    done = venv / ".fricdamp-complete"   # written last: an interrupted install is redone
+    if not done.exists():
         print(f"creating the {name} environment in {venv} (once; a few minutes)",
               file=sys.stderr)
-        subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+        subprocess.run([sys.executable, "-m", "venv", "--clear", str(venv)], check=True)
         subprocess.run([str(python), "-m", "pip", "install", "-q", "-r", str(req)],
                        check=True)
+        done.write_text(req.read_text())
     return python
 
 
