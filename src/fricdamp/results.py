@@ -128,27 +128,9 @@ def save_dataset(ds, path) -> None:
     ``_real``/``_imag``, booleans as int8, see :func:`fricdamp.iofiles.write_results`) or as
     a NumPy archive (``.npz``: every variable under its own name, its dimensions in
     ``<name>__dims``, the attributes as JSON in ``__attrs__``). :func:`load` reads both."""
-    import json
-    from pathlib import Path
+    from fricdamp.iofiles import write_results
 
-    from fricdamp.iofiles import atomic_path, to_jsonable, write_results
-
-    path = Path(path)
-    if path.suffix != ".npz":
-        if path.suffix != ".nc":
-            raise ValueError(f"path must end in .nc (netCDF) or .npz (NumPy), got {path}")
-        write_results(path, ds)
-        return
-    arrays = {}
-    for name, var in ds.variables.items():
-        arrays[str(name)] = np.asarray(var.values)
-        arrays[f"{name}__dims"] = np.array(var.dims, dtype=str)
-    attrs = {"dataset": to_jsonable(dict(ds.attrs)),
-             "variables": {str(n): to_jsonable(dict(v.attrs)) for n, v in ds.variables.items()},
-             "coords": [str(c) for c in ds.coords]}
-    arrays["__attrs__"] = np.array(json.dumps(attrs))
-    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
-        np.savez(fh, **arrays)
+    write_results(path, ds)
 
 
 def load(path):
