@@ -133,6 +133,22 @@ def save_dataset(ds, path) -> None:
     write_results(path, ds)
 
 
+def plot_histories(t, q, outputs=None, ax=None):
+    """Displacement histories ``q[:, i]`` [m] over ``t`` [s], drawn in mm for the outputs
+    ``i`` (indices, default all); returns the axes (shared by the transient results)."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
+    for i in (range(q.shape[1]) if outputs is None else outputs):
+        ax.plot(t, 1e3 * q[:, i], lw=1, label=f"output {i}")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("displacement [mm]")
+    ax.legend(loc="upper right", fontsize="small")
+    ax.grid(alpha=0.3)
+    return ax
+
+
 def load(path):
     """Read a result saved by ``.save(path)`` back as an ``xarray.Dataset``."""
     from fricdamp.iofiles import read_results

@@ -797,17 +797,9 @@ class ModalTransientResult(ResultMixin, EnergyBalance):
     def plot(self, outputs=None, ax=None):
         """Displacement histories of the outputs (indices, default all) [mm]; returns the
         axes."""
-        import matplotlib.pyplot as plt
+        from fricdamp.results import plot_histories
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
-        for i in (range(self.output.shape[1]) if outputs is None else outputs):
-            ax.plot(self.t, 1e3 * self.output[:, i], lw=1, label=f"output {i}")
-        ax.set_xlabel("time [s]")
-        ax.set_ylabel("displacement [mm]")
-        ax.legend(loc="upper right", fontsize="small")
-        ax.grid(alpha=0.3)
-        return ax
+        return plot_histories(self.t, self.output, outputs, ax)
 
 
 class _State:
