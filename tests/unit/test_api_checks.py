@@ -98,6 +98,7 @@ def test_time_result_save_on_a_full_disk_leaves_no_temporary_file(tmp_path, monk
 
     monkeypatch.setattr(xr.Dataset, "to_netcdf", full)
     monkeypatch.setattr(np, "savez", full_npz)
+    monkeypatch.setattr(np, "savez_compressed", full_npz)
     res = simulate(ONE_HZ, 0.1, 1e-2, q0=[1.0], progress=False)
     with pytest.raises(OSError, match="No space left"):
         res.save(tmp_path / name)
