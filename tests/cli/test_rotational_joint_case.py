@@ -166,3 +166,40 @@ def test_noise_that_swamps_the_joint_rotation_is_reported(cli, write_case, tmp_p
     assert ident["relative_error"] > 0.05
     assert ident["joint_rotation_fraction"] < 0.01
     assert "note: the identified energy is" in stdout and "swamps it" in stdout
+
+
+def test_force_check_in_the_case_file(cli, write_case, tmp_path):
+    """Why (issue 16 leftover): the closed-loop case could not run the force channel's checks.
+    ``force_check = true`` gives the pipeline the simulated shaker force: on the soft default
+    rig at 5 N (gross slip) the force-based torque agrees with the accelerometer torque within
+    the 2 % limit and the rig's energy balance closes within its 2 % limit, so the run is
+    reliable (exit 0) with both blocks in summary.json. The simulated signals are the rig's
+    own, so both differences are of the order of the time-step error (measured < 1e-3)."""
+    text = CASE.replace("[analysis.joint]\namplitudes_rad = [1.0e-2, 1.0e-6]\n"
+                        "steps_per_cycle = 400\n\n", "") + "force_check = true\n"
+    out = tmp_path / "out"
+    code, stdout, err = cli("run", write_case(text), "--out", out)
+    assert code == 0, err + stdout
+    ident = json.loads((out / "summary.json").read_text())["identification"]
+    tq, bal = ident["torque_from_force"], ident["energy_balance"]
+    assert tq["torque_relative_rms_difference"] < tq["limit"] == 0.02
+    assert bal["residual_relative_to_input"] < bal["limit"] == 0.02
+    assert tq["energy_relative_difference"] < 0.02
+
+
+def test_force_check_flags_the_stiff_paper_load_rig(cli, write_case, tmp_path):
+    """With beam 1 mounted stiffly (the paper's load case) the force-based torque is the small
+    remainder of terms several hundred times larger than the joint torque, so even exact
+    signals leave percent-level differences: the case says so and exits 3 (unreliable)."""
+    from pathlib import Path
+
+    text = (Path(__file__).parents[2] / "examples/cases/rotational_joint_paper_load.toml"
+            ).read_text().replace("periods = 14 ", "periods = 8 ").replace(
+            "analysed_periods = 6", "analysed_periods = 3") + "force_check = true\n"
+    out = tmp_path / "out"
+    code, stdout, err = cli("run", write_case(text), "--out", out)
+    ident = json.loads((out / "summary.json").read_text())["identification"]
+    assert ident["torque_from_force"]["amplification"] > 100
+    assert ident["torque_from_force"]["torque_relative_rms_difference"] > 0.02
+    assert code == 3, stdout + err
+    assert "force check" in stdout + err

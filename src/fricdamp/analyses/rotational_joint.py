@@ -474,6 +474,9 @@ class IdentificationAnalysis(Section):
                                                     "filter of the pipeline")
     n_harmonics: int | None = Field(None, ge=1, description="highest harmonic kept by the "
                                                             "harmonic filter (default all)")
+    force_check: bool = Field(False, description="give the pipeline the simulated shaker "
+                              "force: a second joint torque and the rig's energy balance "
+                              "(keys torque_from_force, energy_balance)")
 
     @model_validator(mode="after")
     def _check(self):
@@ -504,6 +507,10 @@ def run_identification(model: JointRigModel, spec: IdentificationAnalysis,
     closed_loop_identification` recovers the loop over the last ``analysed_periods``. The
     identified energy is compared with the joint law's own loop area over the same periods.
     With noise, the noise-free identification of the same simulation is reported as well.
+    With ``force_check = true`` the pipeline also gets the simulated shaker force (sampled
+    with the accelerometers, noise-free) and beam 1's parameters: the second torque estimate
+    and the rig's energy balance (:class:`~fricdamp.analysis.identify.ForceCheck`) join the
+    summary, and their warnings make the result unreliable (exit 3).
     """
     import xarray as xr
 
@@ -519,7 +526,8 @@ def run_identification(model: JointRigModel, spec: IdentificationAnalysis,
                 filter=spec.filter, n_harmonics=spec.n_harmonics,
                 gravity_sensing=spec.gravity_sensing)
     cl = closed_loop_identification(rig, spec.force_amplitude_N, response=res,
-                                    noise=spec.noise_fraction, seed=spec.seed, **opts)
+                                    noise=spec.noise_fraction, seed=spec.seed,
+                                    use_force=spec.force_check, **opts)
     clean = cl if spec.noise_fraction == 0 else closed_loop_identification(
         rig, spec.force_amplitude_N, response=res, **opts)
 
@@ -596,6 +604,10 @@ def run_identification(model: JointRigModel, spec: IdentificationAnalysis,
         reasons.append(f"even without noise the identified energy is "
                        f"{100 * clean.relative_error:.3g} % off the model's (limit "
                        f"{100 * IDENTIFICATION_LIMIT:g} %)")
+    fcheck = cl.identification.force_check
+    if fcheck is not None:
+        reasons.extend(f"force check: {w}" for w in fcheck.warnings)
+        notes.extend(f"force check: {n}" for n in fcheck.notes)
     verdict = judge({"energy_balance_error": summary["energy_balance_error"],
                      "identification_error": float(cl.relative_error),
                      "identification_error_noise_free": float(clean.relative_error)},
