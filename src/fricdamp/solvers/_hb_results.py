@@ -422,6 +422,29 @@ class FrequencyResponse(ResultMixin):
     def __post_init__(self):
         if self.parameter == "omega" and self.system is not None:
             _require_harmonic_load(self.system)
+        post = self.__dict__.get("amplitude")
+        if isinstance(post, _Pending):
+            # post-processed fields computed on first access (see _Pending): removed from
+            # the instance so that attribute lookup falls through to __getattr__
+            for name in _Pending.FIELDS:
+                object.__delattr__(self, name)
+            object.__setattr__(self, "_pending", post)
+
+    def __getattr__(self, name):
+        # only reached for attributes not (yet) in the instance: the pending post-processed
+        # fields, computed all at once and then kept like the other fields
+        pending = self.__dict__.get("_pending")
+        if pending is None or name not in _Pending.FIELDS:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        for key, value in pending.compute().items():
+            object.__setattr__(self, key, value)
+        object.__delattr__(self, "_pending")
+        return self.__dict__[name]
+
+    def __getstate__(self):
+        if "_pending" in self.__dict__:       # pickled with its values, not the set-up
+            self.amplitude  # noqa: B018 - computes the pending fields
+        return dict(self.__dict__)
 
     @property
     def success(self) -> bool:
@@ -587,6 +610,31 @@ class FrequencyResponse(ResultMixin):
         if not self.success:
             ax.set_title(f"incomplete: {self.message}", fontsize="small")
         return ax
+
+
+class _Pending:
+    """The post-processed fields of a :class:`FrequencyResponse`, computed when first read.
+
+    The contact forces, energies per cycle and peak amplitudes of every point (every DOF,
+    128 phases each) cost as much as a tenth of the continuation on the ring of 30 or 480
+    Jenkins contacts; a curve whose caller reads only the coefficients or one DOF's peak
+    pays nothing for them, and any other caller gets the same values on first access
+    (``compute`` is the former eager post-processing, with the same BLAS thread limit).
+    Passed as the ``amplitude`` argument; the other pending fields are passed as None.
+    """
+
+    FIELDS = ("amplitude", "contact_displacement", "contact_force", "dissipated_energy",
+              "external_work", "viscous_dissipation", "energy_balance_error")
+
+    __slots__ = ("fn",)
+
+    def __init__(self, fn):
+        self.fn = fn
+
+    def compute(self) -> dict:
+        """Values of :data:`FIELDS` (calls ``fn() -> dict``)."""
+        out = self.fn()
+        return {k: out[k] for k in self.FIELDS}
 
 
 def _require_harmonic_load(system) -> None:

@@ -522,15 +522,25 @@ def _curve_run(system, harmonics, samples, method, param, lam0, lam1, omega0, sc
                         bifurcations=bs.bifurcations, stability_error=bs.exponent_error,
                         stability_converged=bs.verdict_agrees)
         wall = time.perf_counter() - t0
-        pp = _postprocess_in_blocks(s, X, omegas, scales)    # one BLAS thread too
     fund = np.hypot(X[:, :, 1], X[:, :, 2])
-    err = _balance_error(pp["W_ext"], pp["W_visc"] + pp["W_contact"].sum(axis=1), pp["E_kin"])
+    # contact forces, energies and peak amplitudes of every point: computed when first read
+    # (FrequencyResponse, _hb_results._Pending), with the same BLAS thread limit
+    pending = _hb_results._Pending(lambda: _curve_postprocess(s, X, omegas, scales, blas))
     return FrequencyResponse(
-        omegas, X, pp["amp"], fund, pp["U"], pp["F"], pp["W_contact"], pp["W_ext"],
-        pp["W_visc"], err, cres.iterations, cres.turning_points,
-        cres.status, cres.message, s.H, s.basis.samples, _method_name(form), wall,
-        cres.n_evaluations, cres.n_factorizations, system.names, s.contact_names, scales,
-        param, **stab, system=system)
+        omegas, X, pending, fund, None, None, None, None, None, None, cres.iterations,
+        cres.turning_points, cres.status, cres.message, s.H, s.basis.samples,
+        _method_name(form), wall, cres.n_evaluations, cres.n_factorizations, system.names,
+        s.contact_names, scales, param, **stab, system=system)
+
+
+def _curve_postprocess(s: _Setup, X, omegas, scales, blas) -> dict:
+    """The post-processed fields of a curve (:class:`FrequencyResponse` names)."""
+    with blas_threads(blas):
+        pp = _postprocess_in_blocks(s, X, omegas, scales)
+    err = _balance_error(pp["W_ext"], pp["W_visc"] + pp["W_contact"].sum(axis=1), pp["E_kin"])
+    return dict(amplitude=pp["amp"], contact_displacement=pp["U"], contact_force=pp["F"],
+                dissipated_energy=pp["W_contact"], external_work=pp["W_ext"],
+                viscous_dissipation=pp["W_visc"], energy_balance_error=err)
 
 
 def _postprocess_in_blocks(s: _Setup, X, omegas, scales, max_bytes: float = 16e6):
