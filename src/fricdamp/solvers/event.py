@@ -11,7 +11,12 @@ The phase ends at the first event (000 (45)-(46)):
 * a slipping contact's relative velocity reaches zero (000 (41));
 * a sticking contact's friction saturation ``mu_static |lambda_N| - |lambda_T|`` reaches zero
   (000 (43));
-* a constrained normal force changes sign (reported: this solver keeps contacts closed).
+* a constrained normal force changes sign (reported: bilateral contacts stay closed);
+* for unilateral contacts (:meth:`~fricdamp.solvers.event_system.ConstrainedSystem.
+  unilateral_contacts`): a closed contact's normal force reaches zero (lift-off: the contact
+  opens), an open contact's gap reaches zero (an impact, :mod:`fricdamp.solvers.event_impact`:
+  Newton's law with restitution, frictionless impulses; impacts slower than the Zeno velocity
+  are plastic and close the contact).
 
 The event is located by Brent's method to round-off; the right end of the final bracket
 (where the event function is already non-positive) starts the next phase. Events of several
@@ -51,7 +56,9 @@ import numpy as np
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
 from fricdamp.results import ResultMixin
 from fricdamp.solvers.event_exact import ExactPhase, LinearConfig
+from fricdamp.solvers.event_impact import Impact, close_gaps, impulse
 from fricdamp.solvers.event_phase import (
+    EV_GAP,
     EV_NORMAL,
     EV_SLIP,
     EV_STICK_NEG,
@@ -60,6 +67,7 @@ from fricdamp.solvers.event_phase import (
 )
 from fricdamp.solvers.event_switch import (
     MODE_NAMES,
+    OPEN,
     SLIP_NEG,
     SLIP_POS,
     STICK,
@@ -73,7 +81,7 @@ log = logging.getLogger(__name__)
 _EPS = np.finfo(float).eps
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
 ENERGY_KEYS = ("input_work", "friction_dissipation", "viscous_dissipation", "kinetic",
-               "potential")
+               "potential", "impact_loss")
 
 
 @dataclass(frozen=True)
@@ -88,9 +96,11 @@ class SwitchEvent:
         Contact index.
     from_mode, to_mode : str
         ``"stick"``, ``"slip+"`` or ``"slip-"`` (kind ``"friction"``); ``"compression"`` or
-        ``"tension"`` (kind ``"normal"``: sign change of a constrained normal force).
+        ``"tension"`` (kind ``"normal"``: sign change of a bilateral normal force); the old
+        mode and ``"open"`` (kind ``"lift-off"``); ``"open"`` and ``"closed"`` (contact
+        stays closed) or ``"open"`` (it bounces) (kind ``"impact"``).
     kind : str
-        ``"friction"`` or ``"normal"``.
+        ``"friction"``, ``"normal"``, ``"lift-off"`` or ``"impact"``.
     """
 
     time: float
@@ -135,12 +145,17 @@ class EventResult(ResultMixin):
     lambda_N, lambda_T : ndarray, shape (n_t, n_contacts)
         Normal and tangential contact forces [N] (``lambda_N`` < 0: tension, reported).
     modes : ndarray of int8, shape (n_t, n_contacts)
-        0 stick, +1 slip with positive, -1 with negative relative velocity.
+        0 stick, +1 slip with positive, -1 with negative relative velocity, 3 open (a
+        unilateral contact that has lifted off).
     events : tuple of SwitchEvent
         Every mode change, in time order.
     energy : dict of ndarray, each (n_t,)
-        ``input_work``, ``friction_dissipation``, ``viscous_dissipation`` (cumulative from
-        ``t[0]``), ``kinetic`` and ``potential`` [J]. NaN where the system has no energy hook.
+        ``input_work``, ``friction_dissipation``, ``viscous_dissipation``, ``impact_loss``
+        (cumulative from ``t[0]``), ``kinetic`` and ``potential`` [J]. NaN where the system
+        has no energy hook.
+    impacts : tuple of Impact
+        Every impact of a unilateral contact (:class:`~fricdamp.solvers.event_impact.Impact`),
+        in time order.
     success, status, message
         ``status`` 0 finished, 1 ``max_events`` reached, -1 failure (with ``throw=False``).
     n_events, n_phases, n_decisions, n_configurations, n_rhs, n_expm, n_singular : int
@@ -180,6 +195,7 @@ class EventResult(ResultMixin):
     dof_names: tuple[str, ...] = ()
     contact_names: tuple[str, ...] = ()
     meta: dict = field(default_factory=dict, compare=False)
+    impacts: tuple = ()
 
     # ----------------------------------------------------------------- helpers
     def event_times(self, contact: int | None = None, to_mode: str | None = None) -> np.ndarray:
@@ -188,13 +204,23 @@ class EventResult(ResultMixin):
                          and (contact is None or e.contact == contact)
                          and (to_mode is None or e.to_mode == to_mode)])
 
+    def lift_off_times(self, contact: int | None = None) -> np.ndarray:
+        """Times [s] at which unilateral contacts opened (lift-off, not bounces)."""
+        return np.array([e.time for e in self.events if e.kind == "lift-off"
+                         and (contact is None or e.contact == contact)])
+
+    def impact_times(self, contact: int | None = None) -> np.ndarray:
+        """Times [s] of the impacts (of one contact)."""
+        return np.array([im.time for im in self.impacts
+                         if contact is None or contact in im.contacts])
+
     @property
     def energy_residual(self) -> np.ndarray:
-        """``input - friction - viscous - (dT + dV)`` [J], shape (n_t,)."""
+        """``input - friction - viscous - impact loss - (dT + dV)`` [J], shape (n_t,)."""
         e = self.energy
         mech = e["kinetic"] + e["potential"]
         return (e["input_work"] - e["friction_dissipation"] - e["viscous_dissipation"]
-                - (mech - mech[0]))
+                - e.get("impact_loss", 0.0) - (mech - mech[0]))
 
     @property
     def energy_balance_error(self) -> float:
@@ -346,7 +372,8 @@ def _check_load_frequencies(system) -> None:
 def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
                     method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
                     max_events: int = 100_000, max_step: float = np.inf,
-                    throw: bool = True, progress: bool | None = None) -> EventResult:
+                    throw: bool = True, progress: bool | None = None,
+                    zeno_velocity: float | None = None) -> EventResult:
     """Integrate a stick-slip system exactly from event to event.
 
     Parameters
@@ -383,6 +410,13 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
         Show a tqdm progress bar (share of ``t_span`` done, events so far) on long runs: it
         appears after 1 s and is refreshed at most every 0.2 s; default: only when stderr is
         a terminal and outside CI.
+    zeno_velocity : float, optional
+        Unilateral contacts only: an impact with a normal approach speed at or below this
+        [m/s] is plastic (the contact closes), which ends an accumulation of impacts (Zeno
+        behaviour, e.g. a bouncing ball coming to rest) after finitely many events. Default
+        ``sqrt(rtol)`` times the largest normal velocity scale ``|W_N|^T |q'|`` met at the
+        impacts so far: the time of rest is then found to about ``2 zeno_velocity / (g (1 -
+        e))`` (ball under gravity g), the same relative accuracy as the flights.
 
     Returns
     -------
@@ -437,11 +471,17 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
             raise ModelError(f"{name} must be > 0, got {v!r}")
     if int(max_events) < 0:
         raise ModelError(f"max_events must be >= 0, got {max_events!r}")
-    lf = system.linear_form() if method in ("auto", "exact") else None
+    if zeno_velocity is not None and not (np.isfinite(zeno_velocity) and zeno_velocity >= 0):
+        raise ModelError(f"zeno_velocity must be >= 0 m/s, got {zeno_velocity!r}")
+    uni = np.asarray(system.unilateral_contacts(), dtype=bool)
+    if method == "exact" and uni.any():
+        raise ModelError("method='exact' does not handle unilateral contacts (lift-off and "
+                         "impacts); use method='dop853'")
+    lf = system.linear_form() if method in ("auto", "exact") and not uni.any() else None
     if method == "exact" and lf is None:
         raise ModelError("method='exact' needs a system with a linear form (a CoulombSystem "
                          "with harmonic loads only); use method='dop853'")
-    run = _Run(system, lf, t0, t1, te, rtol, atol, max_step)
+    run = _Run(system, lf, t0, t1, te, rtol, atol, max_step, zeno_velocity=zeno_velocity)
     show = _progress_default() if progress is None else bool(progress)
     bar = _EventProgress(run, t0, t1) if show else None
     status, message = 0, "finished"
@@ -458,7 +498,7 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
     if status == 1 and throw:
         raise ConvergenceError(message)
     res = run.result(status, message, _time.perf_counter() - wall)
-    if np.any(res.lambda_N[:, system.normal_constrained] < 0):
+    if np.any(res.lambda_N[:, np.asarray(system.normal_constrained, bool) & ~uni] < 0):
         log.warning("a constrained normal force became negative (tension): the contact would "
                     "separate, which this solver does not model")
     return res
@@ -467,9 +507,18 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
 class _Run:
     """State of one simulate_events call."""
 
-    def __init__(self, system, lf: LinearForm | None, t0, t1, t_eval, rtol, atol, max_step):
+    def __init__(self, system, lf: LinearForm | None, t0, t1, t_eval, rtol, atol, max_step,
+                 zeno_velocity=None):
         self.system = system
         self.ev = Evaluator(system)
+        #: unilateral contacts (lift-off and impacts): DOP853 phases only
+        self.uni = self.ev.unilateral
+        if self.uni.any():
+            lf = None
+        self.zeno_velocity = zeno_velocity
+        self.v_ref = 0.0  # largest normal velocity scale at the impacts so far [m/s]
+        self.impact_loss = 0.0
+        self.impacts: list[Impact] = []
         self.lf = lf
         self.decider = self.ev if lf is None else LinearDecider(lf, self.ev.mu_s, self.ev.mu_d)
         self.t0, self.t1, self.t_eval = t0, t1, t_eval
@@ -500,17 +549,29 @@ class _Run:
         # at rest within the phases' accuracy (a state that ended a numerical phase in stick
         # carries the integration error): put exactly at rest before deciding
         zero_tol = 1e3 * _EPS if self.lf is not None else max(1e3 * _EPS, self.rtol)
-        cand = (np.abs(gam) <= zero_tol * vs) & ~ev.frictionless
+        opened = self._initially_open(q, qd) if self.uni.any() else np.zeros(self.nc, bool)
+        cand = (np.abs(gam) <= zero_tol * vs) & ~ev.frictionless & ~opened
         modes = np.where(cand, STICK, np.where(gam < 0, SLIP_NEG, SLIP_POS))
         modes[ev.frictionless] = SLIP_POS
-        if cand.any():
+        modes[opened] = OPEN
+        if cand.any() or opened.any():
             self._project(modes)
             q, qd = self.q, self.qd
         if ev.constrained.any():
             pt = ev.point(self.t, q, qd)
-            for _ in range(3):
+            for _ in range(3 + self.nc):
                 _, lamN, _ = ev.solve(pt, modes, self.sigma)
-                flip = ev.constrained & (lamN[:, 0] * self.sigma < 0)
+                tens = ev.constrained & (modes != OPEN) & (lamN[:, 0] * self.sigma < 0)
+                lift = tens & self.uni
+                if lift.any():  # a unilateral contact in tension at the start: open
+                    for c in np.flatnonzero(lift):
+                        self.events.append(SwitchEvent(float(self.t), int(c),
+                                                       MODE_NAMES[int(modes[c])], "open",
+                                                       "lift-off"))
+                    modes[lift] = OPEN
+                    cand &= ~lift
+                    continue
+                flip = tens
                 if not flip.any():
                     break
                 self.sigma[flip] *= -1
@@ -519,6 +580,25 @@ class _Run:
             modes = self.decider.decide_at(self.t, q, qd, modes, cand,
                                            np.zeros(self.nc, dtype=int), self.sigma)
         self.modes = modes
+
+    def _gap_tol(self, q):
+        """Gap tolerance [m] per contact: the integration error of a position."""
+        WN = np.asarray(self.system.normal_jacobian(q), float)
+        return self.rtol * (np.abs(WN).T @ np.abs(q)) + float(np.max(self.atol))
+
+    def _initially_open(self, q, qd):
+        """Unilateral contacts open at the start: a positive gap, or a zero gap with a
+        non-zero normal velocity (a separating contact, or one about to impact at once)."""
+        gap = np.asarray(self.system.normal_gap(q), float)
+        tol = self._gap_tol(q)
+        WN = np.asarray(self.system.normal_jacobian(q), float)
+        gN, vs = WN.T @ qd, np.abs(WN).T @ np.abs(qd)
+        bad = self.uni & (gap < -tol)
+        if bad.any():
+            c = int(np.flatnonzero(bad)[0])
+            raise ModelError(f"the initial state penetrates unilateral contact {c}: gap = "
+                             f"{gap[c]:.6g} m < 0; start with gaps >= 0")
+        return self.uni & ((gap > tol) | (np.abs(gN) > max(self.rtol, 1e3 * _EPS) * vs))
 
     def _phase(self):
         key = tuple(int(m) for m in self.modes)
@@ -576,8 +656,14 @@ class _Run:
         kinds, contacts = phase.kinds[hit.fired], phase.contacts[hit.fired]
         must = np.zeros(nc, dtype=int)
         fired_slip = np.zeros(nc, dtype=bool)
+        lift = np.zeros(nc, dtype=bool)
+        gap_hit = np.zeros(nc, dtype=bool)
         for k, c in zip(kinds, contacts, strict=True):
-            if k == EV_STICK_POS:
+            if k == EV_NORMAL and self.uni[c]:
+                lift[c] = True
+            elif k == EV_GAP:
+                gap_hit[c] = True
+            elif k == EV_STICK_POS:
                 must[c] = SLIP_NEG
             elif k == EV_STICK_NEG:
                 must[c] = SLIP_POS
@@ -588,10 +674,15 @@ class _Run:
                 self.sigma[c] *= -1
                 new = "compression" if self.sigma[c] > 0 else "tension"
                 self.events.append(SwitchEvent(float(self.t), int(c), old, new, "normal"))
+        if lift.any() or gap_hit.any():
+            self._unilateral_switch(lift, gap_hit)
+            is_open = self.modes == OPEN
+            must[is_open] = 0
+            fired_slip &= ~is_open
         gam, vs = self.decider.tangent_velocity(self.t, self.q, self.qd)
         vs = np.maximum(vs, phase.vel_scale)
         cand = ((self.modes == STICK) | fired_slip | (np.abs(gam) <= 1e3 * _EPS * vs))
-        cand &= ~self.ev.frictionless
+        cand &= ~self.ev.frictionless & (self.modes != OPEN)
         # Every contact at zero slip velocity is put exactly there before deciding: a
         # numerical phase lets a stuck contact's velocity drift by its integration error, and
         # removing that drift afterwards (at the next phase's projection) would move the
@@ -607,6 +698,64 @@ class _Run:
             self.events.append(SwitchEvent(float(self.t), int(c), MODE_NAMES[int(self.modes[c])],
                                            MODE_NAMES[int(new[c])]))
         self.modes = new
+
+    def _unilateral_switch(self, lift, gap_hit):
+        """Open the contacts in ``lift``; resolve the impact of those in ``gap_hit``."""
+        for c in np.flatnonzero(lift & (self.modes != OPEN)):
+            self.events.append(SwitchEvent(float(self.t), int(c), MODE_NAMES[int(self.modes[c])],
+                                           "open", "lift-off"))
+            self.modes[c] = OPEN
+        hit = gap_hit & (self.modes == OPEN)
+        if hit.any():
+            self._impact(hit)
+
+    def _impact(self, hit):
+        """Impact of the open contacts ``hit`` whose gap reached zero (event_impact)."""
+        ev, s = self.ev, self.system
+        q = close_gaps(ev, self.q, hit)
+        qd = self.qd
+        WN = np.asarray(s.normal_jacobian(q), float)
+        gm = WN.T @ qd
+        vscale = np.abs(WN).T @ np.abs(qd)
+        self.v_ref = max(self.v_ref, float(vscale[hit].max()))
+        vz = (np.sqrt(self.rtol) * self.v_ref if self.zeno_velocity is None
+              else float(self.zeno_velocity))
+        vtol = 1e3 * _EPS * max(float(vscale.max()), self.v_ref)
+        approaching = hit & (gm < -vtol)
+        plastic = approaching & (-gm <= vz)
+        e = np.where(plastic, 0.0, self.ev.restitution)
+        closed = (self.modes != OPEN) & ev.constrained
+        uni_set = (closed & self.uni) | approaching
+        qd_plus, lam = impulse(ev, q, qd, uni_set, closed & ~self.uni, e)
+        gp = WN.T @ qd_plus
+        M = np.asarray(s.mass(q), float)
+        loss = 0.5 * float(qd @ M @ qd - qd_plus @ M @ qd_plus)
+        self.impact_loss += loss
+        self.impacts.append(Impact(float(self.t), tuple(int(c) for c in np.flatnonzero(hit)),
+                                   gm, gp, lam, loss,
+                                   tuple(int(c) for c in np.flatnonzero(plastic))))
+        # after the impulse: separating contacts are open, the others closed
+        sep = self.uni & (uni_set | hit) & (gp > vtol)
+        gam, vs = ev.tangent_velocity(self.t, q, qd_plus)
+        moving = np.abs(gam) > 1e3 * _EPS * vs
+        old = self.modes.copy()
+        for c in np.flatnonzero(self.uni & (uni_set | hit)):
+            if sep[c]:
+                self.modes[c] = OPEN
+            elif old[c] == OPEN or (old[c] == STICK and moving[c]):
+                # closing (or a stuck contact the impulse set sliding): slip, or decided
+                self.modes[c] = (SLIP_POS if gam[c] >= 0 or ev.frictionless[c]
+                                 else SLIP_NEG) if moving[c] or ev.frictionless[c] else STICK
+                self.sigma[c] = 1.0
+            if hit[c]:
+                self.events.append(SwitchEvent(float(self.t), int(c), "open",
+                                               "open" if sep[c] else "closed", "impact"))
+            elif old[c] != OPEN and sep[c]:
+                self.events.append(SwitchEvent(float(self.t), int(c), MODE_NAMES[int(old[c])],
+                                               "open", "lift-off"))
+        for c in np.flatnonzero(~self.uni & closed & (old == STICK) & moving):
+            self.modes[c] = SLIP_POS if gam[c] >= 0 else SLIP_NEG
+        self.q, self.qd = q, qd_plus
 
     # ------------------------------------------------------------ outputs and energy
     def _record(self, phase, t_stop, last):
@@ -629,7 +778,7 @@ class _Run:
         kin, pot = self._mech(q[:n_rec], qd[:n_rec])
         modes = np.repeat(self.modes[None].astype(np.int8), n_rec, axis=0)
         self.out.append((times[:n_rec], q[:n_rec], qd[:n_rec], lamN[:n_rec], lamT[:n_rec], modes,
-                         e[0], -e[2], e[1], kin, pot))
+                         e[0], -e[2], e[1], kin, pot, np.full(n_rec, self.impact_loss)))
         return q[-1], qd[-1]
 
     def _energy(self, phase, times):
@@ -671,10 +820,9 @@ class _Run:
             cols = [np.concatenate(c, axis=0) for c in zip(*self.out, strict=True)]
         else:
             cols = [np.zeros(0), np.zeros((0, n)), np.zeros((0, n)), np.zeros((0, nc)),
-                    np.zeros((0, nc)), np.zeros((0, nc), np.int8)] + [np.zeros(0)] * 5
+                    np.zeros((0, nc)), np.zeros((0, nc), np.int8)] + [np.zeros(0)] * 6
         t, q, qd, lamN, lamT, modes = cols[:6]
-        energy = dict(zip(ENERGY_KEYS, (cols[6], cols[7], cols[8], cols[9], cols[10]),
-                          strict=True))
+        energy = dict(zip(ENERGY_KEYS, cols[6:12], strict=True))
         return EventResult(
             t=t, q=q, qd=qd, lambda_N=lamN, lambda_T=lamT, modes=modes,
             events=tuple(self.events), energy=energy, success=status == 0, status=status,
@@ -685,7 +833,8 @@ class _Run:
             method="exact" if self.lf is not None else "dop853", runtime_s=runtime,
             dof_names=tuple(s.dof_names), contact_names=tuple(s.contact_names),
             meta={"ambiguous_switches": [(t, [m.tolist() for m in alts])
-                                         for t, alts in self.decider.ambiguities]})
+                                         for t, alts in self.decider.ambiguities]},
+            impacts=tuple(self.impacts))
 
 
 __all__ = ["ConstrainedSystem", "CoulombSystem", "EventResult", "LinearForm", "SwitchEvent",

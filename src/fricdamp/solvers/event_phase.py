@@ -28,12 +28,13 @@ from scipy.integrate import DOP853
 from scipy.optimize import brentq
 
 from fricdamp.errors import ConvergenceError
-from fricdamp.solvers.event_switch import STICK
+from fricdamp.solvers.event_switch import OPEN, STICK
 
 _EPS = np.finfo(float).eps
 
 # event-function kinds
-EV_SLIP, EV_STICK_POS, EV_STICK_NEG, EV_NORMAL = 0, 1, 2, 3
+EV_SLIP, EV_STICK_POS, EV_STICK_NEG, EV_NORMAL, EV_GAP = 0, 1, 2, 3, 4
+# EV_GAP: the gap g_N(q) of an open (unilateral) contact reached 0 (an impact)
 # EV_STICK_POS: reserve mu|N| - lambda_T reached 0 (lambda_T at +limit: slips in -)
 # EV_STICK_NEG: reserve mu|N| + lambda_T reached 0 (lambda_T at -limit: slips in +)
 
@@ -71,10 +72,15 @@ def event_list(modes, constrained, frictionless=None):
     """(kind, contact) of every event function of a configuration, as two int arrays.
 
     A frictionless contact (``mu_static = mu_sliding = 0``, flagged in ``frictionless``) has no
-    friction events: its tangential force is zero whatever its slip velocity does.
+    friction events: its tangential force is zero whatever its slip velocity does. An open
+    contact (mode ``OPEN``) has one event, its gap reaching zero (``EV_GAP``).
     """
     kinds, contacts = [], []
     for i, m in enumerate(modes):
+        if m == OPEN:  # an open contact: only its gap
+            kinds.append(EV_GAP)
+            contacts.append(i)
+            continue
         if frictionless is not None and frictionless[i]:
             pass
         elif m == STICK:
@@ -306,7 +312,48 @@ class NumericalPhase:
         g[k == EV_NORMAL] = (self.sigma[c] * lamN[c])[k == EV_NORMAL]
         scale = np.where(k == EV_SLIP, np.abs(pt.WT[:, c]).T @ np.abs(pt.qd),
                          np.abs(res) + np.abs(lamT[c]) + np.abs(lamN[c]))
+        gap = k == EV_GAP
+        if gap.any():
+            gN = np.asarray(self.ev.system.normal_gap(pt.q), dtype=float)
+            g[gap] = gN[c[gap]]
+            scale[gap] = (np.abs(pt.WN[:, c[gap]]).T @ np.abs(pt.q)) + np.abs(gN[c[gap]])
         return g, scale
+
+    def _gap_zero(self, fired, t_hit, interp):
+        """The impact instant: the zero of the gaps themselves before ``t_hit``.
+
+        A gap event fires at a penetration of its tolerance (the integration error, see
+        :meth:`_tol`); the gap of an approaching contact crossed zero shortly before. Its
+        zero is located by Brent's method on the dense output (the right end of the final
+        bracket, where the gap is <= 0), so the impact state has the velocity at contact
+        rather than after a penetration (which would shift every later bounce). Returns
+        ``t_hit`` unchanged if no gap is positive shortly before (a grazing contact).
+        """
+        sys_gap = self.ev.system.normal_gap
+        c = self.contacts[fired]
+
+        def gap(t):
+            return float(np.max(np.asarray(sys_gap(self.y(t)[:self.n, 0]), float)[c]))
+
+        span = t_hit - self.t0
+        dt = 1e-6 * span
+        while dt <= span:
+            ta = t_hit - dt
+            if gap(ta) > 0:
+                return _refine(gap, ta, t_hit, span)
+            dt *= 4
+        return t_hit
+
+    def _tol(self):
+        """Round-off level of each event function; for gaps (an integrated position) the
+        integration error ``rtol * scale + atol`` instead, so that the error of a gap that
+        just opened with zero velocity does not count as an impact."""
+        tol = 1e2 * _EPS * self._scale + np.finfo(float).tiny
+        gap = self.kinds == EV_GAP
+        if gap.any():
+            tol[gap] = np.maximum(tol[gap], self.rtol * self._scale[gap]
+                                  + float(np.max(self.atol)))
+        return tol
 
     @property
     def segments(self) -> list[tuple[float, float, object]]:
@@ -387,11 +434,13 @@ class NumericalPhase:
                 err = self.rtol * self._scale[i]
                 return min(err / rate, 1e-2 * h) if rate > 0 else 1e-2 * h
 
-            found = first_event(tt, G, gfun, 1e2 * _EPS * self._scale + np.finfo(float).tiny,
-                                first, time_tol=time_tol)
+            found = first_event(tt, G, gfun, self._tol(), first, time_tol=time_tol)
             first = False
             if found is not None:
-                return Hit(found[0], found[1], immediate=found[2])
+                t_hit = found[0]
+                if not found[2] and np.all(self.kinds[found[1]] == EV_GAP):
+                    t_hit = self._gap_zero(found[1], t_hit, interp)
+                return Hit(t_hit, found[1], immediate=found[2])
             g_prev, t_prev = G[:, -1], tb
         return None
 
@@ -513,5 +562,5 @@ class NumericalPhase:
         return W
 
 
-__all__ = ["EV_NORMAL", "EV_SLIP", "EV_STICK_NEG", "EV_STICK_POS", "Hit", "NumericalPhase",
-           "event_list", "first_event"]
+__all__ = ["EV_GAP", "EV_NORMAL", "EV_SLIP", "EV_STICK_NEG", "EV_STICK_POS", "Hit",
+           "NumericalPhase", "event_list", "first_event"]

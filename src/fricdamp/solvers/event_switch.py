@@ -66,7 +66,8 @@ log = logging.getLogger(__name__)
 
 STICK, SLIP_POS, SLIP_NEG = 0, 1, -1
 GIVEN = 2  # internal: tangential force prescribed (building the switching problem)
-MODE_NAMES = {STICK: "stick", SLIP_POS: "slip+", SLIP_NEG: "slip-"}
+OPEN = 3  # a unilateral contact that has lifted off: no normal or tangential force
+MODE_NAMES = {STICK: "stick", SLIP_POS: "slip+", SLIP_NEG: "slip-", OPEN: "open"}
 _EPS = np.finfo(float).eps
 
 
@@ -107,6 +108,15 @@ class Evaluator:
         #: compiled phase kernels of the system (None: the generic path)
         hook = getattr(system, "compiled_kernels", None)
         self.compiled = hook() if hook is not None else None
+        #: contacts whose constrained normal may open and close (lift-off, impacts)
+        uni = getattr(system, "unilateral_contacts", None)
+        self.unilateral = (np.zeros(self.nc, dtype=bool) if uni is None
+                           else np.asarray(uni(), dtype=bool).copy())
+        res = getattr(system, "restitution_coefficients", None)
+        self.restitution = (np.zeros(self.nc) if res is None
+                            else np.asarray(res(), dtype=float).copy())
+        if self.unilateral.any():
+            self.compiled = None  # the compiled kernels know no open contacts
         #: kernels for the switching and projection solves too (all normals constrained)
         self._fused = (self.compiled if getattr(self.compiled, "fused_phases", False)
                        and self.constrained.all() and hasattr(self.compiled, "solve_point")
@@ -143,9 +153,10 @@ class Evaluator:
             cons = self.constrained
             slip = (modes == SLIP_POS) | (modes == SLIP_NEG)
             s = np.where(slip, modes, 0).astype(float)
-            ci = np.flatnonzero(cons)
+            ci = np.flatnonzero(cons & (modes != OPEN))
             plan = dict(
                 ci=ci, si=np.flatnonzero(modes == STICK), sl=np.flatnonzero(slip),
+                op=np.flatnonzero(modes == OPEN),
                 ps=np.flatnonzero(slip & ~cons), gi=np.flatnonzero(modes == GIVEN),
                 s=s, fric_ci=(self.mu_d * sigma * s)[ci],
                 fric_ps=-self.mu_d[slip & ~cons] * s[slip & ~cons],
@@ -193,6 +204,7 @@ class Evaluator:
         MiF = pt.mass_factor(F)
         lamN = np.empty((self.nc, k))
         lamN[:] = pt.N_presc[:, None]
+        lamN[p["op"]] = 0.0
         lamT = np.zeros((self.nc, k))
         if ci.size + si.size:
             B = np.hstack([pt.WN[:, ci] - pt.WT[:, ci] * p["fric_ci"], pt.WT[:, si]])
@@ -237,7 +249,8 @@ class Evaluator:
 
         Positions: Gauss-Newton on the closed normal gaps (M-weighted). Velocities: the
         M-orthogonal projection onto ``W_N^T q' = 0`` and ``W_T,S^T q' = 0`` (the velocity
-        after a perfectly inelastic impulse, which removes the least kinetic energy).
+        after a perfectly inelastic impulse, which removes the least kinetic energy). Open
+        contacts (mode ``OPEN``) are not constrained.
 
         Returns
         -------
@@ -245,7 +258,7 @@ class Evaluator:
         dE : float
             |kinetic energy change| of the velocity projection [J].
         """
-        cons = self.constrained
+        cons = self.constrained & (np.asarray(modes) != OPEN)
         ck = self.compiled
         if ck is not None and cons.all() and getattr(ck, "fused_phases", False):
             ok, q_new, qd_new, de = ck.project(q, qd, modes)

@@ -15,9 +15,13 @@ is ``gamma_T,i = W_T[:, i] . q'`` and its time derivative
 Per contact the normal direction is either
 
 * **constrained** (``normal_constrained[i]`` true): the gap ``g_N,i(q) = 0`` is kept closed
-  (bilateral: this solver does not let contacts separate) and ``lambda_N,i`` is a Lagrange
-  multiplier found with the accelerations; a negative value (tension) is reported, the
-  friction limit uses ``|lambda_N,i|``; or
+  and ``lambda_N,i`` is a Lagrange multiplier found with the accelerations. A bilateral
+  contact (the default) never separates: a negative value (tension) is reported, the
+  friction limit uses ``|lambda_N,i|``. A *unilateral* contact
+  (:meth:`ConstrainedSystem.unilateral_contacts`) lifts off when ``lambda_N,i`` reaches zero
+  and closes again by an impact with restitution coefficient ``e_i``
+  (:meth:`ConstrainedSystem.restitution_coefficients`, see
+  :mod:`fricdamp.solvers.event_impact`); or
 * **prescribed**: ``lambda_N,i`` is a given load (:meth:`ConstrainedSystem.prescribed_normal_load`)
   that does not act on the DOFs through ``W_N`` (include it in ``h`` if it does); it only
   sets the friction limit. This is the den Hartog oscillator's case.
@@ -155,6 +159,18 @@ class ConstrainedSystem(abc.ABC):
         """``wbar_N = (dW_N/dt)^T q'`` [m/s^2], shape (n_contacts,)."""
         return np.zeros(self.n_contacts)
 
+    def unilateral_contacts(self) -> np.ndarray:
+        """True where a constrained normal contact may open (lift-off when its normal force
+        reaches zero) and close again by an impact, shape (n_contacts,) of bool. Default: no
+        contact (bilateral constraints). Its gap ``g_N`` must then be the signed distance,
+        positive when open, with ``W_N = (dg_N/dq)^T`` also away from contact."""
+        return np.zeros(self.n_contacts, dtype=bool)
+
+    def restitution_coefficients(self) -> np.ndarray:
+        """Newton's restitution coefficients ``e`` in [0, 1] of the unilateral contacts,
+        shape (n_contacts,): ``gamma_N+ = -e gamma_N-`` at an impact (0: plastic)."""
+        return np.zeros(self.n_contacts)
+
     def prescribed_normal_load(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Normal loads [N] of the contacts whose normal is not constrained, (n_contacts,)."""
         return np.zeros(self.n_contacts)
@@ -230,6 +246,16 @@ class ConstrainedSystem(abc.ABC):
         nc_mask = np.asarray(self.normal_constrained, dtype=bool)
         if nc_mask.shape != (nc,):
             raise ModelError(f"normal_constrained must be a boolean array of length {nc}")
+        uni = np.asarray(self.unilateral_contacts(), dtype=bool)
+        if uni.shape != (nc,):
+            raise ModelError(f"unilateral_contacts() must return {nc} booleans, got {uni!r}")
+        if np.any(uni & ~nc_mask):
+            raise ModelError("a unilateral contact needs a constrained normal (normal_constrained "
+                             f"true): contacts {np.flatnonzero(uni & ~nc_mask).tolist()}")
+        e = np.asarray(self.restitution_coefficients(), dtype=float)
+        if e.shape != (nc,) or not np.all(np.isfinite(e)) or np.any((e < 0) | (e > 1)):
+            raise ModelError(f"restitution coefficients must be {nc} values in [0, 1], got "
+                             f"{e!r}")
         if nc_mask.any() and type(self).normal_jacobian is ConstrainedSystem.normal_jacobian:
             raise ModelError(
                 f"{type(self).__name__} has contacts with a constrained normal but does not "
