@@ -85,3 +85,27 @@ def test_other_laws_keep_generic_path():
         pass
 
     assert _Full(_Setup(ring(split=True, law=MyJenkins), 3, 32))._jenkins_step() is None
+
+
+def test_deferred_jacobian_identical_and_safe_after_a_later_evaluation():
+    """``evaluate(..., deferred=True)`` returns the Jacobian as a callable that assembles the
+    same matrix (bit for bit) when called; called after another evaluation overwrote the
+    kept contact blocks, it still gives the Jacobian at its own point."""
+    from fricdamp.solvers.continuation import jacobian_of
+
+    s = _Setup(ring(), 5, 64)
+    form = _Full(s)
+    rng = np.random.default_rng(5)
+    amp = np.repeat(np.geomspace(1e-3, 0.1, s.n), s.nh)
+    x1, x2 = (amp * rng.standard_normal(form.N) for _ in range(2))
+    kw = dict(scale=3.0, x_scale=1.7, aft_result=False)
+    J1 = form.evaluate(x1, 1.05, **kw)[1].toarray()
+    J2 = form.evaluate(x2, 0.97, **kw)[1].toarray()
+    r1, thunk1, d1, _, _ = form.evaluate(x1, 1.05, deferred=True, **kw)
+    assert callable(thunk1)
+    assert np.array_equal(jacobian_of(thunk1).toarray(), J1)
+    thunk1 = form.evaluate(x1, 1.05, deferred=True, **kw)[1]
+    r2, thunk2, _, _, _ = form.evaluate(x2, 0.97, deferred=True, **kw)
+    assert np.array_equal(thunk1().toarray(), J1)       # blocks overwritten: evaluated again
+    assert np.array_equal(jacobian_of(thunk2).toarray(), J2)
+    assert np.array_equal(r1, form.evaluate(x1, 1.05, **kw)[0])

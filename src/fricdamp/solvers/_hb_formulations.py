@@ -18,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-from fricdamp._numba_cache import njit
 
+from fricdamp._numba_cache import njit
 from fricdamp.errors import ModelError
 from fricdamp.solvers.aft import HarmonicBasis, aft, element_rows
 from fricdamp.structure.system import HarmonicLoad, MechanicalSystem, TimeLoad
@@ -415,19 +415,22 @@ class _Full:
         return st
 
     def evaluate(self, x, omega, *, xi=0.0, jacobian=True, scale=1.0, x_scale=1.0,
-                 load_scale=1.0, aft_result=True):
+                 load_scale=1.0, aft_result=True, deferred=False):
         """Residual r (N,) [N * scale], Jacobian wrt x (scaled), dr/dOmega, dr/dxi, AFT.
 
         ``load_scale`` multiplies the harmonic loads (k >= 1); the static load is kept.
         ``aft_result=False``: the AFT result is not returned (None), which lets systems
         whose contacts are all Jenkins elements take the direct compiled AFT step
-        (:meth:`_jenkins_step`; same results).
+        (:meth:`_jenkins_step`; same results). ``deferred`` (with ``aft_result=False``):
+        the Jacobian may come as a zero-argument callable that assembles it when called
+        (the deferred Jacobians of :mod:`fricdamp.solvers.continuation`).
         """
         s = self.s
         if not aft_result and jacobian:
             js = self._jenkins_step()
             if js is not None:
-                return self._evaluate_jenkins(js, x, omega, scale, x_scale, load_scale)
+                return self._evaluate_jenkins(js, x, omega, scale, x_scale, load_scale,
+                                              deferred)
         X = (x * x_scale).reshape(s.n, s.nh)
         if self.nma:
             SX, dSX, dxi = self.linear_terms(X, omega, xi)
@@ -471,9 +474,17 @@ class _Full:
         dxi_out = None if dxi is None else dxi.ravel() * scale
         return r.ravel() * scale, J, dSX.ravel() * scale, dxi_out, res
 
-    def _evaluate_jenkins(self, js, x, omega, scale, x_scale, load_scale):
+    def _evaluate_jenkins(self, js, x, omega, scale, x_scale, load_scale, deferred=False):
         """:meth:`evaluate` (not NMA, with the Jacobian) for Jenkins contacts only: the same
-        compiled kernels called in the same order with the same data, no AFT result."""
+        compiled kernels called in the same order with the same data, no AFT result.
+
+        ``deferred``: the Jacobian is returned as a callable that assembles it from the
+        contact Jacobian blocks of this evaluation (kept in the buffers of
+        :meth:`_jenkins_step`) when called: a Newton corrector needs no Jacobian at the
+        iterate where it stops (on the ring of 30 Jenkins contacts one evaluation in three;
+        the assembly is a third of an evaluation). Called after a later evaluation
+        overwrote the buffers, it evaluates again at the same point (same values).
+        """
         from fricdamp.contact.jenkins import jenkins_harmonic_kernel
 
         s = self.s
@@ -491,12 +502,22 @@ class _Full:
         jenkins_harmonic_kernel(U, js["kt"], js["fs"], js["w0"], js["syn"], synT, anaT, PS,
                                 PA, 50, True, F, Jb, js["u_t"], js["f_t"], js["w"])
         _csr_times(*self.PT_csr, F, r, True)
-        data = np.empty(self.nnz)
-        Jflat = Jb.ravel() if self.nl_src.size else np.zeros(1)
-        _jacobian_values(data, self.base[0], self.base[1], self.base[2], omega**2, omega,
-                         self.nl_dest, self.nl_coef_sorted, self.nl_src_sorted, Jflat,
-                         scale * x_scale)
-        return r.ravel() * scale, self._jacobian_from(data), dSX.ravel() * scale, None, None
+        self._n_jenkins = token = getattr(self, "_n_jenkins", 0) + 1
+
+        def jacobian():
+            if self._n_jenkins != token:        # the blocks are another point's now
+                return self._evaluate_jenkins(js, x, omega, scale, x_scale, load_scale)[1]
+            data = np.empty(self.nnz)
+            Jflat = Jb.ravel() if self.nl_src.size else np.zeros(1)
+            _jacobian_values(data, self.base[0], self.base[1], self.base[2], omega**2, omega,
+                             self.nl_dest, self.nl_coef_sorted, self.nl_src_sorted, Jflat,
+                             scale * x_scale)
+            return self._jacobian_from(data)
+
+        if deferred:
+            x = np.array(x, dtype=float)     # the point, should the blocks be overwritten
+        return (r.ravel() * scale, jacobian if deferred else jacobian(), dSX.ravel() * scale,
+                None, None)
 
     def _jacobian_from(self, data):
         if self.dense:
@@ -642,9 +663,10 @@ class _Condensed:
         return Y
 
     def evaluate(self, y, omega, *, jacobian=True, scale=1.0, x_scale=1.0, load_scale=1.0,
-                 aft_result=True):
-        """Residual in the contact coordinates (``aft_result`` is accepted for the common
-        interface with :meth:`_Full.evaluate`; the AFT result is always returned)."""
+                 aft_result=True, deferred=False):
+        """Residual in the contact coordinates (``aft_result`` and ``deferred`` are accepted
+        for the common interface with :meth:`_Full.evaluate`; the AFT result is always
+        returned, the Jacobian always assembled)."""
         s = self.s
         Y = (y * x_scale).reshape(self.m, s.nh)
         R, dR, ul, dul = self.compliance(omega)

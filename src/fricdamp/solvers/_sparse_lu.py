@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+
 from fricdamp._numba_cache import njit
 
 __all__ = ["BlockLU", "BlockFactors"]

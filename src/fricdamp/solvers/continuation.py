@@ -430,6 +430,18 @@ def _norm(r) -> float:
     return float(np.max(np.abs(r))) if len(r) else 0.0
 
 
+def jacobian_of(J):
+    """The Jacobian ``J``, or ``J()`` if it is deferred.
+
+    A residual may return, instead of its Jacobian, a zero-argument callable that
+    assembles it: Newton's method and the corrector call it only at the iterates where
+    they factorise (not where they stop, nor at rejected line-search trials). It must be
+    called before the residual is evaluated again, or else return the Jacobian at its own
+    point anyway (e.g. by evaluating again).
+    """
+    return J() if callable(J) else J
+
+
 # ---------------------------------------------------------------------------- Newton
 @dataclass(frozen=True)
 class NewtonResult:
@@ -498,7 +510,7 @@ def newton(fun: Callable, x0, *, tol: float = 1e-10, max_iter: int = 50,
             return NewtonResult(x, True, "converged", it, rn, nev)
         if it == max_iter:
             break
-        F = _Factor(J, orderings)
+        F = _Factor(jacobian_of(J), orderings)
         if not F.ok:
             return NewtonResult(x, False, "singular Jacobian", it, rn, nev)
         dx = -F.solve(r)
@@ -677,22 +689,32 @@ def _scaled_residual(residual, n, x_scale, lam_scale, counters):
     scalar_xs = bool(np.all(xs == xs[0]))
     unit_xs = scalar_xs and xs[0] == 1.0
 
+    def scale_jx(Jx):
+        if unit_xs:
+            return Jx
+        if scalar_xs:
+            return Jx * xs[0]
+        if sp.issparse(Jx):
+            return Jx @ sp.diags(xs)
+        return Jx * xs[None, :]
+
     def scaled(y):
         x = y[:n] * xs
         r, Jx, Jl = residual(x, y[n] * lam_scale)
         counters["ev"] += 1
         r = np.asarray(r, dtype=float)
-        if unit_xs:
-            pass
-        elif scalar_xs:
-            Jx = Jx * xs[0]
-        elif sp.issparse(Jx):
-            Jx = Jx @ sp.diags(xs)
+        if callable(Jx):        # deferred (see jacobian_of): scaled when assembled
+            if not unit_xs:
+                Jx = _deferred_scaled(Jx, scale_jx)
         else:
-            Jx = Jx * xs[None, :]
+            Jx = scale_jx(Jx)
         return r, Jx, np.asarray(Jl, dtype=float) * lam_scale
 
     return scaled, xs
+
+
+def _deferred_scaled(J, scale_jx):
+    return lambda: scale_jx(J())
 
 
 def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, tol,
@@ -734,6 +756,7 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
 
     # initial tangent: J dx = -J_lam, oriented towards lam_end
     r, Jx, Jl = scaled(y)
+    Jx = jacobian_of(Jx)
     F = _Factor(Jx, orderings)
     counters["fact"] += 1
     if F.ok:
@@ -872,12 +895,12 @@ def _corrector(scaled, y_pred, t, tol, max_iter, border, counters, orderings=Non
                 return y, it, True, Fa
             if rn <= tol:
                 # converged at the predictor: factor once for the tangent
-                Fa = _Factor(border(Jx, Jl, t[:n], t[n]), orderings)
+                Fa = _Factor(border(jacobian_of(Jx), Jl, t[:n], t[n]), orderings)
                 counters["fact"] += 1
                 return y, it, Fa.ok, Fa
             if it == max_iter or rn > 1e6 * max(rn0, tol):
                 break
-            A = border(Jx, Jl, t[:n], t[n])
+            A = border(jacobian_of(Jx), Jl, t[:n], t[n])
             Fa = _Factor(A, orderings)
             counters["fact"] += 1
             if not Fa.ok:
@@ -899,13 +922,13 @@ def _corrector(scaled, y_pred, t, tol, max_iter, border, counters, orderings=Non
             chord.F = None
             return y, it, False, None
         if rn <= tol:
-            chord.jacobian = (Jx, Jl)
+            chord.jacobian = (jacobian_of(Jx), Jl)
             return y, it, True, chord.F
         if it >= chord.max_iter(max_iter) or rn > 1e6 * max(rn0, tol):
             chord.F = None
             return y, it, False, None
         if chord.F is None or chord.stale or len(steps) > _Chord.MAX_UPDATES:
-            chord.F = _Factor(border(Jx, Jl, t[:n], t[n]), orderings)
+            chord.F = _Factor(border(jacobian_of(Jx), Jl, t[:n], t[n]), orderings)
             counters["fact"] += 1
             chord.stale = False
             steps = []
@@ -1135,7 +1158,7 @@ def locate_on_branch(residual: Callable, x_a, lam_a: float, x_b, lam_b: float, t
         # corrector's last factorisation is at the previous iterate: near a fold the tangent
         # is sensitive to that difference)
         _, Jx, Jl = scaled(y)
-        Fa = _Factor(border(Jx, Jl, c[:n], c[n]), orderings)
+        Fa = _Factor(border(jacobian_of(Jx), Jl, c[:n], c[n]), orderings)
         if not Fa.ok:
             return None, np.nan
         t = Fa.solve(rhs)

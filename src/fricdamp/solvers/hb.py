@@ -479,27 +479,32 @@ def _curve_run(system, harmonics, samples, method, param, lam0, lam1, omega0, sc
                 ul[0] = 0.0
                 d_load = -form._to_real(ul).ravel() * scale
 
-        def residual(x, lam):
+        def residual(x, lam, deferred=False):
             if param == "omega":
                 r, J, dr, _, _ = form.evaluate(x, lam, scale=scale, x_scale=x_ref,
-                                               aft_result=False)
+                                               aft_result=False, deferred=deferred)
                 return r, J, dr
             r, J, _, _, _ = form.evaluate(x, omega0, scale=scale, x_scale=x_ref,
-                                          load_scale=lam, aft_result=False)
+                                          load_scale=lam, aft_result=False, deferred=deferred)
             return r, J, d_load
+
+        def residual_deferred(x, lam):
+            # Jacobians assembled only where the corrector factorises
+            # (continuation.jacobian_of; same values)
+            return residual(x, lam, deferred=True)
 
         guesses = _initial_guess(s, form, omega0, initial_guess)
         if param == "load":
             guesses = [g * scale0 if np.any(s.F_ex[:, 1:]) else g for g in guesses]
         x0 = guesses[0] / x_ref
         for g in guesses:
-            res = newton(lambda x: residual(x, lam0)[:2], g / x_ref, tol=tol, max_iter=100,
-                         block_size=_block_size(form))
+            res = newton(lambda x: residual_deferred(x, lam0)[:2], g / x_ref, tol=tol,
+                         max_iter=100, block_size=_block_size(form))
             if res.success:
                 x0 = res.x
                 break
         cres = solve_and_continue(
-            x0, residual, lam0, lam1, step,
+            x0, residual_deferred, lam0, lam1, step,
             ds_min=min_step if min_step is not None else step / 1000.0,
             ds_max=max_step if max_step is not None else 5.0 * step,
             x_scale=1.0, lam_scale=abs(lam1 - lam0), tol=tol,
