@@ -381,7 +381,7 @@ class _Full:
 
         When every contact element is a :class:`~fricdamp.contact.Jenkins` law (one
         direction), :meth:`evaluate` with ``aft_result=False`` calls the compiled AFT step
-        :func:`~fricdamp.contact.jenkins.jenkins_harmonic_kernel` for all contacts at once
+        :func:`~fricdamp.contact.jenkins.jenkins_harmonic_step` for all contacts at once
         with the buffers kept here, instead of :func:`~fricdamp.solvers.aft.aft` and
         :meth:`Jenkins.harmonic_response` (their per-call Python overhead, ~0.1 ms, was a
         third of an evaluation on the ring of 30 contacts). Same kernel, same inputs, same
@@ -410,7 +410,10 @@ class _Full:
                                                         for c in s.contacts]), dtype=float),
                 w0=np.zeros(nc), syn=syn, pre=_prefix_sums(syn, ana),
                 U=np.empty((nc, m)), F=np.empty((nc, m)), Jb=np.empty((nc, m, m)),
-                u_t=np.empty((nc, N)), f_t=np.empty((nc, N)), w=np.empty(nc))
+                u_t=np.empty((nc, N)), f_t=np.empty((nc, N)), w=np.empty(nc),
+                anchor=np.empty(N, np.int64), u=np.empty(N), fc=np.empty(m))
+            st["PS_rows"] = st["pre"][0].reshape(N + 1, m * m)
+            st["Jb_rows"] = st["Jb"].reshape(nc, m * m)
         self._jstep = st
         return st
 
@@ -485,7 +488,7 @@ class _Full:
         the assembly is a third of an evaluation). Called after a later evaluation
         overwrote the buffers, it evaluates again at the same point (same values).
         """
-        from fricdamp.contact.jenkins import jenkins_harmonic_kernel
+        from fricdamp.contact.jenkins import jenkins_harmonic_step
 
         s = self.s
         X = np.ascontiguousarray((x * x_scale).reshape(s.n, s.nh))
@@ -498,9 +501,10 @@ class _Full:
                          dSX.ravel())
         U, F, Jb = js["U"], js["F"], js["Jb"]
         _csr_times(*self.P_csr, X, U, False)
-        PS, PA, synT, anaT = js["pre"]
-        jenkins_harmonic_kernel(U, js["kt"], js["fs"], js["w0"], js["syn"], synT, anaT, PS,
-                                PA, 50, True, F, Jb, js["u_t"], js["f_t"], js["w"])
+        _, PA, synT, anaT = js["pre"]
+        jenkins_harmonic_step(U, js["kt"], js["fs"], js["w0"], js["syn"], synT, anaT,
+                              js["PS_rows"], PA, 50, True, F, js["Jb_rows"], js["u_t"],
+                              js["f_t"], js["w"], js["anchor"], js["u"], js["fc"])
         _csr_times(*self.PT_csr, F, r, True)
         self._n_jenkins = token = getattr(self, "_n_jenkins", 0) + 1
 

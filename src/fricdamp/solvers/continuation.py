@@ -328,7 +328,8 @@ class _Factor:
 
                 A = self.A
                 res = csc_residual_norm(A.shape[0], A.indptr, A.indices, A.data, x,
-                                        np.ascontiguousarray(b, dtype=float))
+                                        np.ascontiguousarray(b, dtype=float),
+                                        np.empty(A.shape[0]))
             else:
                 res = np.max(np.abs(self.A @ x - b))
             scale = np.max(np.abs(b)) + 1e-300
