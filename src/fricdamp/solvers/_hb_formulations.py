@@ -198,14 +198,25 @@ class _Setup:
         if sp.issparse(K) and sp.issparse(M) and sp.issparse(D):
             aligned = self._aligned(K_extra)
         elif K_extra is not None:
-            K = (K + K_extra).tocsr() if sp.issparse(K) else K + _dense(K_extra)
+            # K + K_extra once per K_extra object (the step scaling asks at 17 frequencies)
+            kept = getattr(self, "_k_plus", None)
+            if kept is not None and kept[0] is K_extra and kept[1] is K:
+                K = kept[2]
+            else:
+                Ks = (K + K_extra).tocsr() if sp.issparse(K) else K + _dense(K_extra)
+                self._k_plus = (K_extra, K, Ks)
+                K = Ks
         X = np.zeros((self.n, self.nh))
         F = self.F_ex
+        kept = getattr(self, "_loaded_harmonics", None)
+        if kept is not None and kept[0] is F:
+            loaded = kept[1]
+        else:                       # the harmonics with a load
+            loaded = [k for k in range(self.H + 1)
+                      if np.any(F[:, [0] if k == 0 else [2 * k - 1, 2 * k]])]
+            self._loaded_harmonics = (F, loaded)
         try:
-            for k in range(self.H + 1):
-                cols = [0] if k == 0 else [2 * k - 1, 2 * k]
-                if not np.any(F[:, cols]):
-                    continue
+            for k in loaded:
                 rhs = F[:, 0].astype(complex) if k == 0 else F[:, 2 * k - 1] - 1j * F[:, 2 * k]
                 if aligned is not None:
                     import scipy.sparse.linalg as spla
