@@ -8,10 +8,14 @@ Mechanical model (000 Fig. 2, section 2.1)::
             contour eta = p1 xi^2 + p2 (or a circle) touching the platform lines at K1, K2
 
 The generalised coordinates are those of 000 (30), ``q = (q1, q2, q3, q4, q5, xS, yS)``, with
-the constant mass matrix ``diag(m1, m2, m3, m4, I5, m5, m5)``. The damper stays in contact with
-both platforms (bilateral normal constraints, no separation, as in the paper); a negative normal
-force is reported by the solver, never hidden. The contact kinematics 000 (5)-(28) are derived
-symbolically in :mod:`fricdamp.models._blade_damper_kinematics` (sympy, on first use).
+the constant mass matrix ``diag(m1, m2, m3, m4, I5, m5, m5)``. By default the damper stays in
+contact with both platforms (bilateral normal constraints, no separation, as in the paper); a
+negative normal force is reported by the solver, never hidden. With ``release=True`` the
+contacts are unilateral: the damper lifts off a platform when its normal force reaches zero and
+re-impacts it with Newton's restitution coefficient ``restitution`` (frictionless impulses,
+:mod:`fricdamp.solvers.event_impact`), so designs beyond lift-off can be computed. The contact
+kinematics 000 (5)-(28) are derived symbolically in
+:mod:`fricdamp.models._blade_damper_kinematics` (sympy, on first use).
 
 The model implements :class:`fricdamp.solvers.event_system.ConstrainedSystem`, so the
 event-driven solver integrates its four configurations (slip/slip 5 DOF, slip/stick and
@@ -247,6 +251,15 @@ class BladeDamperSystem(ConstrainedSystem):
         screening in compiled code too (default; the same step-size control and event
         samples as SciPy's DOP853). False: SciPy's DOP853 calls the compiled right-hand side
         (the path before, kept for comparisons; about 3-10 times slower).
+    release : bool
+        Let the damper lift off the platforms and re-impact them (unilateral normal contacts;
+        default False: bilateral, the paper's no-separation model). The event solver then
+        takes the generic DOP853 phases (the compiled phase kernels know only closed
+        contacts; the compiled kinematics are still used), whatever ``compiled_phases`` says.
+    restitution : float
+        Newton's restitution coefficient ``e`` in [0, 1] of the damper-platform impacts
+        (with ``release``; default 0: plastic impacts, the damper stays on the platform it
+        hits when the contact force is compressive).
 
     Examples
     --------
@@ -259,6 +272,8 @@ class BladeDamperSystem(ConstrainedSystem):
     params: BladeDamperParameters = field(default_factory=BladeDamperParameters)
     compiled: bool = True
     compiled_phases: bool = True
+    release: bool = False
+    restitution: float = 0.0
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     n_dof = 7
@@ -269,6 +284,11 @@ class BladeDamperSystem(ConstrainedSystem):
         if not isinstance(self.params, BladeDamperParameters):
             raise ModelError(f"params must be BladeDamperParameters, got "
                              f"{type(self.params).__name__}")
+        e = self.restitution
+        if not (isinstance(e, (int, float, np.floating)) and np.isfinite(e) and 0 <= e <= 1):
+            raise ModelError(f"restitution must be a number in [0, 1], got {e!r}")
+        object.__setattr__(self, "restitution", float(e))
+        object.__setattr__(self, "release", bool(self.release))
         p = self.params
         m1, m2, m3, m4 = p.masses
         k1, k2, k3, k4 = p.stiffnesses
@@ -312,6 +332,14 @@ class BladeDamperSystem(ConstrainedSystem):
     @property
     def normal_constrained(self) -> np.ndarray:  # type: ignore[override]
         return np.ones(2, dtype=bool)
+
+    def unilateral_contacts(self) -> np.ndarray:
+        """Both contacts may lift off when ``release`` (else none)."""
+        return np.full(2, self.release)
+
+    def restitution_coefficients(self) -> np.ndarray:
+        """``restitution`` at both contacts."""
+        return np.full(2, self.restitution)
 
     @property
     def dof_names(self) -> tuple[str, ...]:

@@ -412,11 +412,15 @@ def simulate_events(system: ConstrainedSystem, t_span, y0, *, t_eval=None,
         a terminal and outside CI.
     zeno_velocity : float, optional
         Unilateral contacts only: an impact with a normal approach speed at or below this
-        [m/s] is plastic (the contact closes), which ends an accumulation of impacts (Zeno
-        behaviour, e.g. a bouncing ball coming to rest) after finitely many events. Default
-        ``sqrt(rtol)`` times the largest normal velocity scale ``|W_N|^T |q'|`` met at the
-        impacts so far: the time of rest is then found to about ``2 zeno_velocity / (g (1 -
-        e))`` (ball under gravity g), the same relative accuracy as the flights.
+        [m/s] is plastic (the contact closes), and a contact that an impulse would set
+        separating at or below it is held closed; this ends an accumulation of impacts
+        (Zeno behaviour, e.g. a bouncing ball coming to rest, a wedged damper rattling
+        between two platforms) after finitely many events. Default, per contact,
+        ``sqrt(2 a_N tol_gap)``: the speed of a bounce whose apex height stays below the gap
+        tolerance ``tol_gap = rtol |W_N|^T |q| + atol`` (``a_N`` the normal relative
+        acceleration without contact forces at the impact; ``sqrt(2 g atol)`` for a ball
+        on a floor at y = 0). The time of rest of a ball is then found to
+        ``2 zeno_velocity / (g (1 - e))``.
 
     Returns
     -------
@@ -516,7 +520,6 @@ class _Run:
         if self.uni.any():
             lf = None
         self.zeno_velocity = zeno_velocity
-        self.v_ref = 0.0  # largest normal velocity scale at the impacts so far [m/s]
         self.impact_loss = 0.0
         self.impacts: list[Impact] = []
         self.lf = lf
@@ -714,20 +717,36 @@ class _Run:
         ev, s = self.ev, self.system
         q = close_gaps(ev, self.q, hit)
         qd = self.qd
-        WN = np.asarray(s.normal_jacobian(q), float)
+        pt = ev.point(self.t, q, qd)
+        WN = pt.WN
         gm = WN.T @ qd
         vscale = np.abs(WN).T @ np.abs(qd)
-        self.v_ref = max(self.v_ref, float(vscale[hit].max()))
-        vz = (np.sqrt(self.rtol) * self.v_ref if self.zeno_velocity is None
-              else float(self.zeno_velocity))
-        vtol = 1e3 * _EPS * max(float(vscale.max()), self.v_ref)
+        if self.zeno_velocity is None:
+            # a bounce whose apex height v^2 / (2 a_N) stays below the gap tolerance is not
+            # resolved (a_N: the normal relative acceleration without contact forces)
+            a_free = np.abs(WN.T @ pt.mass_factor(pt.h) + pt.wbN)
+            vz = np.sqrt(2.0 * a_free * self._gap_tol(q))
+        else:
+            vz = np.full(self.nc, float(self.zeno_velocity))
+        vtol = 1e3 * _EPS * float(vscale.max())
         approaching = hit & (gm < -vtol)
         plastic = approaching & (-gm <= vz)
         e = np.where(plastic, 0.0, self.ev.restitution)
         closed = (self.modes != OPEN) & ev.constrained
         uni_set = (closed & self.uni) | approaching
+        held = np.zeros(self.nc, dtype=bool)
         qd_plus, lam = impulse(ev, q, qd, uni_set, closed & ~self.uni, e)
         gp = WN.T @ qd_plus
+        for _ in range(self.nc):
+            # contacts the impulse would set separating slower than the Zeno velocity are
+            # held closed (their flight would not be resolved either)
+            slow = uni_set & ~held & (gp > vtol) & (gp <= vz)
+            if not slow.any():
+                break
+            held |= slow
+            qd_plus, lam = impulse(ev, q, qd, uni_set & ~held, (closed & ~self.uni) | held, e)
+            gp = WN.T @ qd_plus
+        plastic |= held
         M = np.asarray(s.mass(q), float)
         loss = 0.5 * float(qd @ M @ qd - qd_plus @ M @ qd_plus)
         self.impact_loss += loss

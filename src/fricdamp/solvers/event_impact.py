@@ -28,9 +28,14 @@ Dynamics with Unilateral Contacts*, 1996, ch. 6-7; Leine & Nijmeijer 2004, ch. 7
 After the impact a contact with ``gamma_N+`` at round-off (``e = 0``, or a contact already
 closed that the impulse held) is closed, one with ``gamma_N+ > 0`` is open (it bounces).
 Impacts slower than the *Zeno velocity* are taken as plastic (``e = 0``): the contact closes,
-which ends an accumulation of ever shorter bounces (a ball coming to rest after infinitely
-many impacts in finite time) with an error of order that velocity times the remaining flight
-times (see :func:`~fricdamp.solvers.event.simulate_events`, ``zeno_velocity``).
+and a closed contact that the impulse would set separating slower than it is held closed
+(a bilateral row of the impulsive problem, whose impulse may then be slightly negative, of
+order the effective mass times that velocity). The default Zeno velocity is that of a
+bounce whose apex height stays below the gap tolerance. This ends an accumulation of ever
+shorter bounces (a ball coming to rest after infinitely many impacts in finite time; a damper
+wedged between two platforms, where a plastic impact on one throws it off the other) with an
+error of order that velocity times the remaining flight times (see
+:func:`~fricdamp.solvers.event.simulate_events`, ``zeno_velocity``).
 """
 
 from __future__ import annotations
@@ -62,7 +67,8 @@ class Impact:
     energy_loss : float
         Kinetic energy lost ``T- - T+`` [J] (>= 0).
     plastic : tuple of int
-        Impacting contacts taken as plastic because they were slower than the Zeno velocity.
+        Contacts taken as plastic (impacting slower than the Zeno velocity) or held closed
+        (set separating slower than it).
     """
 
     time: float
