@@ -386,6 +386,13 @@ class FrequencyResponse(ResultMixin):
         with H + 1 harmonics (NaN without stability).
     stability_converged : bool or None
         The H + 1 check gives the same verdicts at the checked points.
+
+    Notes
+    -----
+    ``amplitude``, ``contact_displacement``, ``contact_force``, ``dissipated_energy``,
+    ``external_work``, ``viscous_dissipation`` and ``energy_balance_error`` are computed
+    together when one of them is first read (then kept): a caller that needs only the
+    coefficients does not pay for them.
     """
 
     omega: np.ndarray
