@@ -137,3 +137,65 @@ def test_release_off_keeps_the_bilateral_contact(caplog):
     assert r.lambda_N.min() < 0 and not r.impacts and r.lift_off_times().size == 0
     assert np.all(r.q[:, 1] == 0.0) and np.all(r.modes != 3)
     assert set(r.energy) >= {"impact_loss"} and np.all(r.energy["impact_loss"] == 0.0)
+
+
+def test_shooting_refuses_unilateral_contacts():
+    """The saltation matrices of impacts are not implemented: shooting's flow says so."""
+    from fricdamp.solvers.shooting import flow
+
+    with pytest.raises(ModelError, match="shooting do not handle unilateral contacts"):
+        flow(PointMassOnStop(), (0.0, 1.0), [0, 0.5, 0, 0])
+
+
+class PointMassInGroove(PointMassOnStop):
+    """Point mass in a V-groove: two frictionless walls with normals (-+sin b, cos b)."""
+
+    n_contacts = 2
+
+    def __init__(self, b=0.6, e=0.0, **kw):
+        super().__init__(e=e, **kw)
+        self.n = np.array([[-np.sin(b), np.cos(b)], [np.sin(b), np.cos(b)]]).T  # (2, 2)
+        self.mu_static = self.mu_sliding = np.zeros(2)
+        self.normal_constrained = np.ones(2, dtype=bool)
+
+    def unilateral_contacts(self):
+        return np.ones(2, dtype=bool)
+
+    def restitution_coefficients(self):
+        return np.full(2, self.e)
+
+    def tangent_jacobian(self, q):
+        return np.array([[np.cos(0.6), np.cos(0.6)], [np.sin(0.6), -np.sin(0.6)]])
+
+    def tangent_wbar(self, q, qd):
+        return np.zeros(2)
+
+    def normal_gap(self, q):
+        return self.n.T @ q
+
+    def normal_jacobian(self, q):
+        return self.n
+
+    def normal_wbar(self, q, qd):
+        return np.zeros(2)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.5])
+def test_simultaneous_impact_in_a_groove(e):
+    """Dropped onto the bottom of a V-groove (half angle b from the vertical normal), both
+    walls are hit at once: one impulsive problem for both gives v+ = e v (vertical), the
+    impulses m (1 + e) v / (2 cos b) each and the loss (1 - e^2) m v^2 / 2 (1e-10). With
+    e = 0 the mass then rests in the groove: both contacts closed, each pressed by
+    m g / (2 cos b) (1e-9)."""
+    b, m, h0 = 0.6, 1.5, 0.2
+    s = PointMassInGroove(b=b, e=e, m=m)
+    r = simulate_events(s, (0.0, 0.3), [0, h0, 0, 0], rtol=1e-12, progress=False)
+    im = r.impacts[0]
+    v = np.sqrt(2 * 9.81 * h0)  # vertical impact speed; normal velocities -v cos b
+    assert im.contacts == (0, 1)
+    assert np.allclose(im.impulse, m * (1 + e) * v / (2 * np.cos(b)), rtol=1e-10)
+    assert im.energy_loss == pytest.approx(0.5 * (1 - e**2) * m * v**2, rel=1e-10)
+    assert np.allclose(im.velocity_after, e * v * np.cos(b), rtol=1e-10, atol=1e-14)
+    if e == 0:
+        assert len(r.impacts) == 1 and np.all(r.modes[-1] != 3)
+        assert np.allclose(r.lambda_N[-1], m * 9.81 / (2 * np.cos(b)), rtol=1e-9)

@@ -624,6 +624,10 @@ class _Run:
         self.proj_energy += de
 
     def loop(self, max_events):
+        if self.trace is not None and self.uni.any():
+            raise ModelError("periodic orbits by shooting do not handle unilateral contacts yet "
+                             "(no saltation matrices of impacts): integrate with "
+                             "simulate_events, or switch release off")
         zeno = 0
         while True:
             y_pre = (self.q, self.qd) if self.trace is not None else None
