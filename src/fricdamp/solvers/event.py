@@ -205,7 +205,9 @@ class EventResult(ResultMixin):
                          and (to_mode is None or e.to_mode == to_mode)])
 
     def lift_off_times(self, contact: int | None = None) -> np.ndarray:
-        """Times [s] at which unilateral contacts opened (lift-off, not bounces)."""
+        """Times [s] at which closed unilateral contacts opened: their normal force reached
+        zero, or an impact on another contact set them separating (not the bounces of an
+        impacting contact, see :meth:`impact_times`)."""
         return np.array([e.time for e in self.events if e.kind == "lift-off"
                          and (contact is None or e.contact == contact)])
 
