@@ -48,7 +48,8 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-from numba import njit
+
+from fricdamp._numba_cache import njit
 
 # layout of the parameter vector ``par`` (one float64 array: one argument to type-check)
 _MINV, _K, _D, _F0 = 0, 7, 56, 105
@@ -921,7 +922,8 @@ def kinematics_source(contour: str) -> str:
     lines = [f"    {pr.doprint(s)} = {pr.doprint(e)}" for s, e in subs]
     lines += [f"    {n} = {pr.doprint(e)}" for (n, _), e in zip(targets, reduced, strict=True)]
     head = (f'"""Generated from the sympy kinematics of the blade-damper model ({contour}); '
-            'do not edit."""\nimport math\n\nimport numpy as np\nfrom numba import njit\n\n\n'
+            'do not edit."""\nimport math\n\nimport numpy as np\n\n'
+            "from fricdamp._numba_cache import njit\n\n\n"
             "@njit(cache=True)\n"
             "def kin(q1, q3, q5, xS, yS, u5, gamma, p1, p2, gap, WN, WT, wbN, wbT):\n")
     if {str(v) for v in (q1, q3, q5, xS, yS, u5, gamma, p1, p2)} != {

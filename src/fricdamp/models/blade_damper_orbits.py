@@ -8,11 +8,14 @@ multipliers, its period multiple and its practical stability.
 The transient is integrated in chunks and the return map read after each
 (:func:`fricdamp.solvers.shooting.detect_period_multiple`: which period multiple n, and how
 far ``|y_k - y_(k-n)|``, scaled); Newton starts once that distance is below
-``shoot_distance`` (1e-3). On this nonsmooth map Newton from 1e-2 often fails after 8
-iterations, and one iteration (a flow with its monodromy and a line search) costs as much
-as 30-100 periods of plain integration (28 switches per period near the resonance), so
-integrating the transient is the cheaper way to a good start. An unstable period-1 orbit
-with a real multiplier below -1 (a flip) sends the search to n = 2.
+``shoot_distance`` (1e-3). On this nonsmooth map Newton from 1e-2 often fails, and one
+iteration (a flow over n periods with its monodromy, and a line search) costs as much as
+about 10 n periods of plain integration at the resonance, so integrating the transient is
+usually the cheaper way to a good start. An orbit that cannot belong to a neutral family
+(no contact stuck throughout the last chunk) is tried earlier, from ``early_distance``
+(1e-2) with a few iterations: an isolated stable orbit is the same answer from wherever
+Newton reaches it. An unstable period-1 orbit with a real multiplier below -1 (a flip)
+sends the search to n = 2.
 
 Neutral multipliers and the member of a family
 -----------------------------------------------
@@ -32,7 +35,8 @@ multiplier other than the neutral ones lies inside the unit circle.
 When no periodic orbit of period multiple up to ``max_multiple`` is stable within the budget
 (e.g. the period-1 orbit at 62.3 Hz with a complex pair at |mu| = 1.14: a Neimark-Sacker
 beating), the response is not periodic; the steady amplitude is then the largest half
-peak-to-peak of q4 over two further windows of a long integration, reported with
+peak-to-peak of q4 over two windows at the end of the budget (its last ``2 window_periods``
+periods, sampled densely as they are integrated), reported with
 ``periodic = False`` and ``converged`` telling whether the two windows agree (a stationary
 quasi-periodic or chaotic response) or not (still a transient).
 """
@@ -41,6 +45,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -138,11 +143,28 @@ def _configuration_times(res) -> dict:
     return {name: float(dt[conf[:-1] == k].sum()) for k, name in enumerate(CONFIGURATIONS)}
 
 
+def _tail_windows(tail, t_end, width):
+    """The two windows ``[t_end - 2 width, t_end - width]`` and ``[t_end - width, t_end]``
+    from the densely sampled chunks ``tail`` (EventResults ending at ``t_end``); None when
+    they do not cover both."""
+    tol = 1e-12 * max(abs(t_end), 1.0)
+    if not tail or tail[0].t[0] > t_end - 2 * width + tol or abs(tail[-1].t[-1] - t_end) > tol:
+        return None
+    cols = {k: np.concatenate([getattr(r, k) for r in tail])
+            for k in ("t", "q", "lambda_N", "modes")}
+    out = []
+    for a, b in ((t_end - 2 * width, t_end - width), (t_end - width, t_end)):
+        sel = (cols["t"] >= a - tol) & (cols["t"] <= b + tol)
+        out.append(SimpleNamespace(**{k: v[sel] for k, v in cols.items()}))
+    return out
+
+
 def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: int = 0,
                  chunk_periods: int = 10, max_periods: int = 400, tol: float = 1e-6,
                  shoot_distance: float = 1e-3, max_multiple: int = 4, max_shots: int = 6,
                  max_iter: int = 8, rtol: float = 1e-9, window_periods: int = 20,
-                 stationarity_tol: float = 0.01) -> SteadyOrbit:
+                 stationarity_tol: float = 0.01, early_distance: float = 1e-2,
+                 early_max_iter: int = 4, max_early_shots: int = 2) -> SteadyOrbit:
     """Steady stick-slip response at ``params.excitation_frequency`` by shooting.
 
     Parameters
@@ -178,23 +200,31 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
     rtol : float
         DOP853 tolerance (the shooting tolerance is 100 rtol on the scaled residual).
     window_periods : int
-        Without a stable periodic orbit: two windows of this many periods are integrated
-        after the budget; the amplitude is the larger of their q4 half peak-to-peak values.
+        Without a stable periodic orbit: the last two windows of this many periods of the
+        budget (or two more, integrated after it, when the search stopped before the
+        budget's end or the budget is shorter); the amplitude is the larger of their q4 half
+        peak-to-peak values.
     stationarity_tol : float
         The non-periodic response is stationary (``converged``) when the two windows'
         amplitudes agree to this relative tolerance.
+    early_distance : float
+        When no contact stuck throughout the last chunk (so an orbit near it cannot belong
+        to a neutral family of always-stuck contacts: its member would not depend on the
+        history) and the transient is slow (shrinking at the last chunk's rate, more than
+        ``5 n`` chunks still to go to ``shoot_distance``), Newton is tried already below this
+        return distance, with ``early_max_iter`` iterations, at most ``max_early_shots``
+        times; a converged,
+        stable orbit without neutral contacts is accepted as at ``shoot_distance``,
+        anything else lets the transient continue. A Newton iteration on a period-n orbit
+        costs about 10 n periods of integration at the resonance, a chunk 10.
 
     Returns
     -------
     SteadyOrbit
     """
     from fricdamp.models.blade_damper_analyses import _system
-    from fricdamp.solvers.shooting import (
-        detect_period_multiple,
-        flow,
-        neutral_stability,
-        shoot,
-    )
+    from fricdamp.solvers.event_switch import STICK
+    from fricdamp.solvers.shooting import _return_map, flow, neutral_stability, shoot
 
     c0 = time.process_time()
     s = _system(params)
@@ -220,10 +250,10 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
         y, t, done = fl.y_end, t + k * T, done + k
         return fl.result
 
-    def orbit_at(nmul):
+    def orbit_at(nmul, iters=max_iter):
         try:
             o = shoot(s, T, y, t0=t, transient_periods=0, period_multiple=nmul,
-                      max_iter=max_iter, rtol=rtol)
+                      max_iter=iters, rtol=rtol)
         except ConvergenceError as exc:
             errors.append(f"shooting failed at t = {t:.6g} s: {exc}")
             return None, None
@@ -254,14 +284,32 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
 
     prev_amp = np.nan
     best = None  # (orbit, neutral stability) of the last converged orbit
-    shots = 0
+    shots = early = 0
     k = max(int(chunk_periods), 2 * int(max_multiple) + 1)
+    # the two windows of a response without a stable orbit are the budget's last
+    # 2 window_periods periods, sampled densely as they are integrated
+    tail_from = int(max_periods) - 2 * int(window_periods)
+    tail: list = []
+    last_det = None  # (n, distance) of the previous chunk
+
+    def chunks_left(dist, prev):
+        """Chunks until the return distance reaches shoot_distance at the rate of the last
+        chunk (inf when it did not shrink or n changed: no estimate)."""
+        if prev is None or prev[0] != n_det or not 0 < dist < prev[1]:
+            return np.inf
+        return np.log(shoot_distance / dist) / np.log(dist / prev[1])
+
     try:
         advance(int(transient_periods))
         while True:
             # the return map of the next k periods: which n, and is it close enough?
-            n_det, y_d, dist = detect_period_multiple(s, T, y, t0=t, periods=k,
-                                                      max_multiple=max_multiple, rtol=rtol)
+            dense = tail_from >= 0 and done + k > tail_from
+            n_det, y_d, dist, res_k = _return_map(s, T, y, t0=t, periods=k,
+                                                  max_multiple=max_multiple, rtol=rtol,
+                                                  samples_per_period=20 if dense else 1)
+            if dense:
+                tail.append(res_k)
+            prev_det, last_det = last_det, (n_det, dist)
             y, t, done = y_d, t + k * T, done + k
             last = done + k > max_periods
             # at the end of the budget Newton is still tried from somewhat further out, but
@@ -277,6 +325,18 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
                         if not ns.neutral_contacts or abs(amp - prev_amp) <= tol * amp:
                             break
                         prev_amp = amp
+            elif (dist <= early_distance and early < int(max_early_shots)
+                  and np.isfinite(left := chunks_left(dist, prev_det)) and left > 5 * n_det
+                  and not np.any(np.all(res_k.modes == STICK, axis=0))):
+                # an isolated orbit near a slow transient: Newton (an iteration costs about
+                # n chunks' worth: monodromy over n periods and line search) is cheaper than
+                # the chunks still needed to reach shoot_distance
+                early += 1
+                o, ns = orbit_at(n_det, int(early_max_iter))
+                if (o is not None and o.success and ns.stable
+                        and not ns.neutral_contacts):
+                    best = (o, ns)
+                    break
             if last or shots >= int(max_shots):
                 break
     except ConvergenceError as exc:
@@ -304,23 +364,26 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
             time_in_configuration=_configuration_times(fin.result),
             cpu_s=time.process_time() - c0, errors=tuple(errors), orbit=o)
     # no stable periodic orbit: the response beats (quasi-periodic or chaotic); its
-    # amplitude is the largest half peak-to-peak over two further windows, stationary when
-    # they agree to stationarity_tol
+    # amplitude is the largest half peak-to-peak over two windows (the budget's last
+    # 2 window_periods periods, or two further windows when the search stopped early),
+    # stationary when they agree to stationarity_tol
     res = None
     a12 = []
+    minN_all = np.inf
+    windows = _tail_windows(tail, t, window_periods * T)
     try:
-        for _ in range(2):
-            res = advance(int(window_periods))
+        for i in range(2):
+            res = windows[i] if windows is not None else advance(int(window_periods))
             a12.append(float(0.5 * np.ptp(res.q[:, 3])))
-            minN_w = float(res.lambda_N.min())
-            if minN_w < 0:
+            minN_all = min(minN_all, float(res.lambda_N.min()))
+            if minN_all < 0:
                 break
     except ConvergenceError as exc:
         errors.append(f"solver: {exc}")
         res = None
     amp = max(a12) if res is not None else float("nan")
     stationary = bool(len(a12) == 2 and abs(a12[1] - a12[0]) <= stationarity_tol * amp)
-    minN = float(res.lambda_N.min()) if res is not None else float("nan")
+    minN = minN_all if res is not None else float("nan")
     if minN < 0:
         errors.append(f"negative normal force {minN:.4g} N: the damper would lift off, which "
                       "this no-separation model excludes")

@@ -11,7 +11,8 @@ grazing dip between samples, located from the derivative) and refines it with Br
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from fricdamp._numba_cache import njit
 
 _EPS = np.finfo(np.float64).eps
 

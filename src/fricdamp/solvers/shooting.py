@@ -110,7 +110,7 @@ class Flow:
     monodromy : ndarray, shape (2 n_dof, 2 n_dof)
         ``d y_end / d y0`` (projections, phase transitions and saltation matrices).
     result : EventResult
-        The run's samples and events.
+        The run's samples and events (no energies: its ``energy`` entries are NaN).
     n_simultaneous : int
         Events where several event functions vanished together (no unique saltation matrix).
     monodromy_error : float
@@ -352,6 +352,9 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
         _share_caches(run)
     run.trace = []
     run.with_energy = False
+    # nor the mechanical energy of every sample (a Python call per phase): a flow's
+    # result carries no energies (all NaN)
+    run._mech = lambda q, qd: (np.full(len(q), np.nan), np.full(len(q), np.nan))
     run.start(y[:n], y[n:])
     status, message = run.loop(int(max_events))
     if status != 0:
@@ -718,9 +721,21 @@ def detect_period_multiple(system: ConstrainedSystem, period: float, y0, *, t0: 
     distance : float
         Scaled return distance of n (small when the transient has settled).
     """
+    n, y_end, dist, _ = _return_map(system, period, y0, t0=t0, periods=periods,
+                                    max_multiple=max_multiple, method=method, rtol=rtol,
+                                    atol=atol)
+    return n, y_end, dist
+
+
+def _return_map(system, period, y0, *, t0=0.0, periods=40, max_multiple=8, method="auto",
+                rtol=1e-10, atol=1e-12, samples_per_period=1):
+    """:func:`detect_period_multiple` that also returns the run's ``EventResult``, sampled
+    ``samples_per_period`` times per period (the stroboscopic samples among them)."""
     periods = max(int(periods), 2 * max_multiple + 1)
-    te = t0 + period * np.arange(periods + 1)
-    fl = flow(system, (t0, te[-1]), y0, t_eval=te, method=method, rtol=rtol, atol=atol,
+    spp = max(int(samples_per_period), 1)
+    dense = t0 + period * (np.arange(periods * spp + 1) / spp)
+    te = dense[::spp]
+    fl = flow(system, (t0, te[-1]), y0, t_eval=dense, method=method, rtol=rtol, atol=atol,
               monodromy=False)
     res = fl.result
     n = system.n_dof
@@ -739,7 +754,7 @@ def detect_period_multiple(system: ConstrainedSystem, period: float, y0, *, t0: 
     d = np.array(d)
     best = float(d.min())
     m = int(np.flatnonzero(d <= 10 * best + 1e-14)[0]) + 1
-    return m, fl.y_end, float(d[m - 1])
+    return m, fl.y_end, float(d[m - 1]), res
 
 
 def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
