@@ -343,6 +343,86 @@ def _block_solve(b, out, sperm, nB, bsz, ld, bnew, Lp, Li, Up, Ui, Loff, Uoff, D
         out[sperm[i]] = z[i]
 
 
+@njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
+def _block_solve2(b, c, out_b, out_c, sperm, nB, bsz, ld, bnew, Lp, Li, Up, Ui, Loff, Uoff,
+                  Doff, S, piv, pstart, z, w):  # pragma: no cover - compiled
+    """:func:`_block_solve` of two right-hand sides in one sweep over the factors (``z``,
+    ``w``: n work entries each): for factors larger than the cache (ring of 480 contacts:
+    2.7 MB) the second costs a fraction of a solve."""
+    n = sperm.size
+    for i in range(n):
+        z[i] = b[sperm[i]]
+        w[i] = c[sperm[i]]
+    for K in range(nB):                 # forward: P, unit L
+        nK = bsz[K]
+        lK = ld[K]
+        s0 = bnew[K]
+        d0 = Doff[K]
+        q0 = pstart[K]
+        for cc in range(nK):
+            r = piv[q0 + cc]
+            if r != cc:
+                t = z[s0 + cc]
+                z[s0 + cc] = z[s0 + r]
+                z[s0 + r] = t
+                t = w[s0 + cc]
+                w[s0 + cc] = w[s0 + r]
+                w[s0 + r] = t
+        for cc in range(nK):
+            zc = z[s0 + cc]
+            wc = w[s0 + cc]
+            for r in range(cc + 1, nK):
+                a = S[d0 + r * lK + cc]
+                z[s0 + r] -= a * zc
+                w[s0 + r] -= a * wc
+        for q in range(Lp[K], Lp[K + 1]):
+            I = Li[q]
+            nI = bsz[I]
+            l0 = Loff[q]
+            i0 = bnew[I]
+            for r in range(nI):
+                acc = 0.0
+                acw = 0.0
+                for k in range(nK):
+                    a = S[l0 + r * lK + k]
+                    acc += a * z[s0 + k]
+                    acw += a * w[s0 + k]
+                z[i0 + r] -= acc
+                w[i0 + r] -= acw
+    for J in range(nB - 1, -1, -1):     # backward: U
+        nJ = bsz[J]
+        lJ = ld[J]
+        s0 = bnew[J]
+        d0 = Doff[J]
+        for cr in range(nJ - 1, -1, -1):
+            acc = z[s0 + cr]
+            acw = w[s0 + cr]
+            for cc in range(cr + 1, nJ):
+                a = S[d0 + cr * lJ + cc]
+                acc -= a * z[s0 + cc]
+                acw -= a * w[s0 + cc]
+            dg = S[d0 + cr * lJ + cr]
+            z[s0 + cr] = acc / dg
+            w[s0 + cr] = acw / dg
+        for p in range(Up[J], Up[J + 1]):
+            K = Ui[p]
+            nK = bsz[K]
+            x0 = Uoff[p]
+            k0 = bnew[K]
+            for r in range(nK):
+                acc = 0.0
+                acw = 0.0
+                for cc in range(nJ):
+                    a = S[x0 + r * lJ + cc]
+                    acc += a * z[s0 + cc]
+                    acw += a * w[s0 + cc]
+                z[k0 + r] -= acc
+                w[k0 + r] -= acw
+    for i in range(n):
+        out_b[sperm[i]] = z[i]
+        out_c[sperm[i]] = w[i]
+
+
 @njit(cache=True, nogil=True)
 def bordered_values(Jdata, old, extra, lastcol, c, t, s, out):  # pragma: no cover - compiled
     """Values of the bordered matrix ``[[J, c], [t^T, s]]`` in its CSC pattern (see
@@ -519,6 +599,17 @@ class BlockFactors:
                      s.Li, s.Up, s.Ui, s.Loff, s.Uoff, s.Doff, self.S, self.piv, s.pstart,
                      np.empty(s.n))
         return out
+
+    def solve_pair(self, b, c):
+        """``(A^-1 b, A^-1 c)`` for 1-D b and c, in one sweep (:func:`_block_solve2`)."""
+        s = self.sym
+        x = np.empty(s.n)
+        y = np.empty(s.n)
+        _block_solve2(np.ascontiguousarray(b, dtype=float), np.ascontiguousarray(c, dtype=float),
+                      x, y, s.sperm, s.nB, s.bsz, s.ld, s.bnew, s.Lp, s.Li, s.Up, s.Ui,
+                      s.Loff, s.Uoff, s.Doff, self.S, self.piv, s.pstart, np.empty(s.n),
+                      np.empty(s.n))
+        return x, y
 
     def diagonal_and_sign(self) -> tuple[np.ndarray, float]:
         """Diagonal of U and the sign of the row interchanges (the symmetric block

@@ -250,7 +250,7 @@ class _Factor:
     (SuperLU if a pivot fails its threshold rule).
     """
 
-    __slots__ = ("lu", "sparse", "ok", "A", "checked", "perm", "block")
+    __slots__ = ("lu", "sparse", "ok", "A", "checked", "perm", "block", "tangent")
 
     def __init__(self, A, orderings: _Orderings | None = None):
         self.sparse = sp.issparse(A)
@@ -258,6 +258,7 @@ class _Factor:
         self.checked = False
         self.perm = None
         self.block = None
+        self.tangent = None
         try:
             if self.sparse:
                 # threshold pivoting (prefer the diagonal unless 1000x smaller than the column
@@ -317,10 +318,33 @@ class _Factor:
         x[self.perm] = y
         return x
 
+    def solve_with(self, b, e):
+        """``A^-1 b``, and ``A^-1 e`` kept in :attr:`tangent` when the dense-block factors
+        give it in the same sweep (:meth:`BlockFactors.solve_pair`: for factors larger than
+        the cache the second right-hand side costs a fraction of a solve), else left None.
+        ``b`` is checked as the first solve of :meth:`solve` is."""
+        block = self.block
+        if block is None or b.ndim != 1:
+            return self.solve(b)
+        x, y = block.solve_pair(b, e)
+        if not self.checked:
+            x = self._check(b, x)
+            if self.block is None:          # refactorised by SuperLU: y is not its solve
+                return x
+        self.tangent = y
+        return x
+
     def solve(self, b):
         if not self.sparse:
             return sla.lu_solve(self.lu, b, check_finite=False)
         x = self._lu_solve(b)
+        if not self.checked:
+            x = self._check(b, x)
+        return x
+
+    def _check(self, b, x):
+        """The first solve's residual check (see the class): ``x`` or the solution of the
+        partial-pivoting refactorisation."""
         if not self.checked:
             self.checked = True
             if self.block is not None and b.ndim == 1:
@@ -801,7 +825,7 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
                 else:
                     rhs = np.zeros(n + 1)
                     rhs[n] = 1.0
-                    t_new = Fa.solve(rhs)
+                    t_new = Fa.tangent.copy() if Fa.tangent is not None else Fa.solve(rhs)
                 nt = 0.0 if t_new is None else np.linalg.norm(t_new)
                 if t_new is None or not np.all(np.isfinite(t_new)) or nt == 0:
                     ok = False
@@ -888,6 +912,8 @@ def _corrector(scaled, y_pred, t, tol, max_iter, border, counters, orderings=Non
     rn = _norm(r)
     rn0 = rn
     if chord is None:
+        e_n = np.zeros(n + 1)
+        e_n[n] = 1.0
         Fa = None
         for it in range(max_iter + 1):
             if not np.isfinite(rn):
@@ -907,7 +933,9 @@ def _corrector(scaled, y_pred, t, tol, max_iter, border, counters, orderings=Non
             if not Fa.ok:
                 return y, it, False, None
             g = float(t @ (y - y_pred))
-            dy = -Fa.solve(np.append(r, g))
+            # with the next tangent's right-hand side where that is nearly free (dense-block
+            # factors): the last factorisation of a converged corrector gives the tangent
+            dy = -Fa.solve_with(np.append(r, g), e_n)
             y = y + dy
             r, Jx, Jl = scaled(y)
             rn = _norm(r)
