@@ -9,7 +9,7 @@ The stick-slip response is integrated for ``periods`` forcing periods from the s
   generic projection onto the constraints (the code as of 2026-11-27);
 * **after**: ``BladeDamperSystem(params)`` -- whole DOP853 steps (SciPy's step-size control
   and dense output), the event screening, the root refinement (Brent) and the projection in
-  compiled code (:mod:`fricdamp.models._blade_damper_compiled`); only the switching decision
+  compiled code (:mod:`fricdamp.models.blade_damper._compiled`); only the switching decision
   and the bookkeeping per event stay in Python.
 
 Points: **away from resonance** 58 Hz, F_e = 8 N, gamma = 50 deg (the case's time response,
@@ -57,8 +57,8 @@ def _grid_row(args):
     """One (parabola, mass) row of the grid: 6 angles and the lift-off refinement."""
     from threadpoolctl import threadpool_limits
 
-    from fricdamp.models.blade_damper import BladeDamperParameters
-    from fricdamp.models.blade_damper_analyses import design_study
+    from fricdamp.models.blade_damper.model import BladeDamperParameters
+    from fricdamp.models.blade_damper.studies import design_study
 
     parabola, mass = args
     with threadpool_limits(1):
@@ -92,8 +92,8 @@ def run(repeats: int = 3, quick: bool = False, periods: float = 10.0, design: bo
         grid: bool = False, grid_rows: int | None = None) -> dict:
     from threadpoolctl import threadpool_limits
 
-    from fricdamp.models.blade_damper import BladeDamperParameters, BladeDamperSystem
-    from fricdamp.models.blade_damper_analyses import resonance_amplitude, time_response
+    from fricdamp.models.blade_damper.model import BladeDamperParameters, BladeDamperSystem
+    from fricdamp.models.blade_damper.studies import resonance_amplitude, time_response
 
     if quick:
         periods, repeats, design = 4.0, 1, False
@@ -135,7 +135,7 @@ def run(repeats: int = 3, quick: bool = False, periods: float = 10.0, design: bo
         if design:
             from unittest import mock
 
-            import fricdamp.models.blade_damper_analyses as bda
+            import fricdamp.models.blade_damper.studies as bda
 
             f = np.linspace(46.0, 58.0, 5)
             p = BladeDamperParameters(excitation_amplitude=8.0, damper_mass=1e-3,

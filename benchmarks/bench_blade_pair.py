@@ -28,8 +28,8 @@ TARGET_S = 10.0
 
 
 def _study():
-    from fricdamp.models.blade_pair import build_blade_pair
-    from fricdamp.models.blade_pair_analyses import campbell_diagram, steady_state_sweep
+    from fricdamp.models.blade_pair.model import build_blade_pair
+    from fricdamp.models.blade_pair.studies import campbell_diagram, steady_state_sweep
 
     model = build_blade_pair()
     t0 = time.perf_counter()
@@ -46,8 +46,8 @@ def _study():
 
 def _single_point_time(n: int = 20) -> float:
     """Seconds per steady state when each speed is solved on its own (no batching)."""
-    from fricdamp.models.blade_pair import build_blade_pair
-    from fricdamp.models.blade_pair_analyses import solve_steady_states
+    from fricdamp.models.blade_pair.model import build_blade_pair
+    from fricdamp.models.blade_pair.studies import solve_steady_states
 
     model = build_blade_pair()
     rpm = np.linspace(100.0, 2500.0, n)
@@ -59,9 +59,9 @@ def _single_point_time(n: int = 20) -> float:
 
 def _hb_sweep() -> dict:
     """One HB sweep beside eqlin (the case's settings), timed once."""
-    from fricdamp.models.blade_pair import build_blade_pair
-    from fricdamp.models.blade_pair_analyses import solve_steady_states
-    from fricdamp.models.blade_pair_hb import hb_speed_sweep
+    from fricdamp.models.blade_pair.hb import hb_speed_sweep
+    from fricdamp.models.blade_pair.model import build_blade_pair
+    from fricdamp.models.blade_pair.studies import solve_steady_states
 
     model = build_blade_pair()
     guide_model = build_blade_pair(model.params.with_(tangential_stiffness=1e8))

@@ -49,8 +49,8 @@ def _peak(x, y):
 
 
 def run(quick: bool = False, verbose: bool = False, full_order: bool = True) -> dict:
-    from fricdamp.models.tieboss_forced import cyclic_problem, expand_to_wheel, wheel_load
-    from fricdamp.models.tieboss_wheel import build_sector, build_wheel
+    from fricdamp.models.tieboss_wheel.forced import cyclic_problem, expand_to_wheel, wheel_load
+    from fricdamp.models.tieboss_wheel.model import build_sector, build_wheel
     from fricdamp.solvers.continuation import blas_threads, newton
     from fricdamp.solvers.cyclic_hb import cyclic_frequency_response
     from fricdamp.solvers.hb import frequency_response, harmonic_balance

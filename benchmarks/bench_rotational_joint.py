@@ -2,14 +2,14 @@
 
 1. **Loop.** Paper 002's rough joint discretised into 10^4 Cattaneo–Mindlin summit classes
    (50 x 40 cells x 20 height classes), one symmetric cycle of 1,000 steps from the virgin
-   state (:func:`fricdamp.models.rotational_joint.symmetric_cycle`: closed-form Masing
+   state (:func:`fricdamp.models.rotational_joint.model.symmetric_cycle`: closed-form Masing
    branches, half a cycle plus symmetry, numba). Reference: the generic
    ``ContactLaw.march`` (numba kernel with the Masing memory stack) on the same history
    (quarter-cycle loading plus the cycle); both must agree to 1e-12 before any time is
    reported. Target: <= 0.1 s.
 2. **Post-processing.** 10^6 samples per channel of the three accelerometers at the lab rate
    10240 Hz (30 Hz excitation: 341.33 samples per period, so whole periods are resampled by
-   a cubic spline), through :func:`fricdamp.analysis.identify.identify_joint` (kinematics,
+   a cubic spline), through :func:`fricdamp.signals.identify.identify_joint` (kinematics,
    harmonic filter, FFT integration, torque, loop area, damping ratio). The identified loop
    energy must match the prescribed motion's to 1e-4. Target: <= 1 s.
 
@@ -22,10 +22,10 @@ import time
 
 import numpy as np
 
-from fricdamp.analysis.energy import loop_area
-from fricdamp.analysis.identify import JointRigGeometry, identify_joint, joint_torque
 from fricdamp.contact.rough import RoughRotationalJoint
-from fricdamp.models.rotational_joint import symmetric_cycle
+from fricdamp.models.rotational_joint.model import symmetric_cycle
+from fricdamp.signals.energy import loop_area
+from fricdamp.signals.identify import JointRigGeometry, identify_joint, joint_torque
 
 TARGET_LOOP_S, TARGET_POST_S = 0.1, 1.0
 N_STEPS, N_SAMPLES, FS, F0 = 1000, 1_000_000, 10240.0, 30.0

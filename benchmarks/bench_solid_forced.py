@@ -6,7 +6,7 @@ contact face; ``quick``: the 12 mm mesh, 25 pairs) is reduced by cyclic Craig-Ba
 fixed-interface modes, 60 interface modes: the solid case's settings), the contact offset
 calibrated to 2.4 N per tie-boss, and the forward 2ND wave of 2 N per blade continued
 through the friction-damped resonance (H = 3, AFT samples 60) by
-:func:`fricdamp.models.solid_forced.solid_forced_response`.
+:func:`fricdamp.models.tieboss_wheel.solid_forced.solid_forced_response`.
 
 Prints the set-up (mesh, assembly, reduction, wheel modes, calibration) and the
 continuation, each in CPU (``time.process_time``) and wall time, one BLAS thread, the HB
@@ -28,8 +28,8 @@ def run(quick: bool = False, verbose: bool = False) -> dict:
     from threadpoolctl import threadpool_limits
 
     from fricdamp.models.contact_wheel import ContactSettings, build_contact_wheel
-    from fricdamp.models.solid_forced import solid_forced_response
-    from fricdamp.models.tieboss_solid import SolidWheelParameters, build_solid_sector
+    from fricdamp.models.tieboss_wheel.solid import SolidWheelParameters, build_solid_sector
+    from fricdamp.models.tieboss_wheel.solid_forced import solid_forced_response
 
     with threadpool_limits(limits=1):
         c0, w0 = time.process_time(), time.perf_counter()

@@ -3,18 +3,18 @@
 The paper's 3D FE wheel (89,000 hexahedra, 30 tie-boss contact pairs) took **~40,000
 core-hours of ANSYS on the Salomon supercomputer for 0.1 s of free attenuation** (003
 section 3; quoted, not run). Here the same pipeline on the tet10 sector of
-:mod:`fricdamp.models.tieboss_solid` with every node pair of every contact patch, in one
+:mod:`fricdamp.models.tieboss_wheel.solid` with every node pair of every contact patch, in one
 process with one BLAS/OpenMP thread, stage by stage:
 
 ========================  ===================================================================
-meshing                   gmsh (:func:`~fricdamp.models.tieboss_solid.build_sector_mesh`,
+meshing                   gmsh (:func:`~fricdamp.models.tieboss_wheel.solid.build_sector_mesh`,
                           not cached: each size runs in a fresh process) and the conversion
                           to a SolidMesh
 assembly                  tet10 stiffness and mass (scikit-fem basis)
 pairing                   clamp, cyclic cuts and contact faces paired
                           (:func:`~fricdamp.models.contact_wheel.sector_from_solid`)
 modal by ND               first open-contact mode of every ND 0..15 of the *unreduced* sparse
-                          sector (:func:`~fricdamp.models.tieboss_analyses.modal_by_nd`)
+                          sector (:func:`~fricdamp.models.tieboss_wheel.studies.modal_by_nd`)
 reduction                 cyclic Craig-Bampton with the cut reduced (``reduce_sector``; its
                           sub-stages are its own wall-clock ``timings``)
 wheel modes               every mode of the reduced wheel by ND (``wheel_modes``)
@@ -178,13 +178,13 @@ def measure(mesh_size_m: float | None = None, *, duration_s: float = DURATION_S,
     import numpy as np
 
     import fricdamp.models.contact_wheel as cw
-    import fricdamp.models.tieboss_solid as ts
+    import fricdamp.models.tieboss_wheel.solid as ts
     import fricdamp.structure.cyclic_reduction as cr
     import fricdamp.structure.solid as so
-    from fricdamp.analyses.tieboss_wheel_solid import paper_wheel_sector
     from fricdamp.models.contact_wheel import ContactSettings, build_contact_wheel
-    from fricdamp.models.tieboss_analyses import modal_by_nd
-    from fricdamp.models.tieboss_solid import SolidWheelParameters
+    from fricdamp.models.tieboss_wheel.case_solid import paper_wheel_sector
+    from fricdamp.models.tieboss_wheel.solid import SolidWheelParameters
+    from fricdamp.models.tieboss_wheel.studies import modal_by_nd
     from fricdamp.structure.cyclic import nodal_diameter_modes
 
     peak_import = _peak_gib()

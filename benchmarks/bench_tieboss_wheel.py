@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import time
 
-from fricdamp.models.tieboss_analyses import free_decay, initial_deformation
-from fricdamp.models.tieboss_wheel import build_sector, build_wheel
+from fricdamp.models.tieboss_wheel.model import build_sector, build_wheel
+from fricdamp.models.tieboss_wheel.studies import free_decay, initial_deformation
 from fricdamp.solvers.fast_transient import integrate_contact3d
 
 TARGET_RATIO = 10.0

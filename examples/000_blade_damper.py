@@ -30,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
-from fricdamp.models.blade_damper_analyses import (
+from fricdamp.models.blade_damper.orbits import steady_orbit
+from fricdamp.models.blade_damper.studies import (
     CONFIGURATIONS,
     confirm_pulloff,
     default_design_band,
@@ -41,7 +42,6 @@ from fricdamp.models.blade_damper_analyses import (
     stuck_eigenfrequencies,
     time_response,
 )
-from fricdamp.models.blade_damper_orbits import steady_orbit
 
 #: Excitation amplitude of the design study [N] (the paper does not give it).
 DESIGN_FE = 8.0

@@ -17,7 +17,7 @@ documented in BladePairParameters) and draws the paper's figures:
   slip) and where not (near the stick threshold).
 
 The Campbell diagrams follow 001 section 4.1 (B_e from the response without friction
-damping), the default of :func:`~fricdamp.models.blade_pair_analyses.campbell_diagram`.
+damping), the default of :func:`~fricdamp.models.blade_pair.studies.campbell_diagram`.
 
 Run: ``python examples/001_blade_pair.py [out_dir]``. ``main(out_dir)`` returns the
 summary (the ``summary.json`` contract of the blade_pair case plus the file names).
@@ -56,14 +56,14 @@ def main(out_dir="out/001_blade_pair", *, n_campbell: int = 100, n_sweep: int = 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from fricdamp.models.blade_pair import build_blade_pair
-    from fricdamp.models.blade_pair_analyses import (
+    from fricdamp.models.blade_pair.hb import compare_with_hb, hb_speed_sweep
+    from fricdamp.models.blade_pair.model import build_blade_pair
+    from fricdamp.models.blade_pair.studies import (
         campbell_diagram,
         orbits,
         run_blade_pair_case,
         steady_state_sweep,
     )
-    from fricdamp.models.blade_pair_hb import compare_with_hb, hb_speed_sweep
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -18,7 +18,7 @@ shaker force) and the figures ``fig14_loops.png``, ``fig16_energy.png``,
 
 What it shows. With the paper's 100 N preload and mu = 0.15 the joint's slip torque is
 0.134 N m; in the rig (documented parameters in
-:class:`fricdamp.models.rotational_joint.RigParameters`) 1 N of shaker force asks ~0.05 N m
+:class:`fricdamp.models.rotational_joint.model.RigParameters`) 1 N of shaker force asks ~0.05 N m
 of the stuck joint, so micro-slip needs forces below ~1 N, and the paper's 60-500 N drive the
 joint deep into gross slip with rotations of 0.1 rad and more. There the joint torque is ~1 %
 of the inertial torque of beam 2, which the paper's linear kinematics (B.1)-(B.10) cannot
@@ -40,7 +40,7 @@ import numpy as np
 
 from fricdamp.contact.rough import RoughRotationalJoint
 from fricdamp.iofiles import save_figure, write_json
-from fricdamp.models.rotational_joint import (
+from fricdamp.models.rotational_joint.model import (
     RotationalJointRig,
     closed_loop_identification,
     joint_curves,

@@ -1,7 +1,7 @@
 """Paper 003 (Pesek et al.): bladed wheel with tie-boss friction contacts.
 
 Makes the paper's tables and figures from the tuned beam model of the 30-blade wheel
-(:mod:`fricdamp.models.tieboss_wheel`):
+(:mod:`fricdamp.models.tieboss_wheel.model`):
 
 * ``table1.png`` -- open-contact eigenfrequencies by nodal diameter against Table 1;
 * ``campbell.png`` -- Campbell diagram 60-450 rpm with the lines of p = 8 pulses and the
@@ -36,20 +36,20 @@ from pathlib import Path
 import numpy as np
 
 from fricdamp.iofiles import save_figure, write_json
-from fricdamp.models.tieboss_analyses import (
+from fricdamp.models.tieboss_wheel.model import (
+    TABLE1_EXPERIMENT_HZ,
+    TABLE1_FEM_HZ,
+    TiebossWheelParameters,
+    build_sector,
+    build_wheel,
+)
+from fricdamp.models.tieboss_wheel.studies import (
     TABLE2_ORDERS,
     campbell_by_nd,
     critical_speeds_by_nd,
     free_decay,
     modal_by_nd,
     reduction_comparison,
-)
-from fricdamp.models.tieboss_wheel import (
-    TABLE1_EXPERIMENT_HZ,
-    TABLE1_FEM_HZ,
-    TiebossWheelParameters,
-    build_sector,
-    build_wheel,
 )
 
 N_MODES = 10            # fixed-interface modes per sector

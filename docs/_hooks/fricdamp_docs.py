@@ -49,7 +49,7 @@ API_PACKAGES = [
      "mechanical systems, builders, beams, solids, cyclic symmetry"),
     ("fricdamp.solvers", "solvers",
      "time stepping, event-driven stick-slip, HB, continuation, modes"),
-    ("fricdamp.analysis", "analysis", "loops, energy, damping, signals, identification"),
+    ("fricdamp.signals", "signals", "loops, energy, damping, signals, identification"),
     ("fricdamp.studies", "studies", "sweeps and optimisation, serial or on Dask"),
     ("fricdamp.models", "models", "the papers' systems"),
 ]

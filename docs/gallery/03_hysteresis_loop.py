@@ -9,8 +9,8 @@ dissipated per cycle; for A > F_s / k_t the closed form is ``W = 4 F_s (A - F_s 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from fricdamp.analysis import loop_area
 from fricdamp.contact import Jenkins
+from fricdamp.signals import loop_area
 
 k_t, F_s, A = 1e6, 5.0, 1e-5                       # [N/m], [N], [m]
 law = Jenkins(stiffness=k_t, slip_force=F_s)

@@ -57,7 +57,11 @@ def __getattr__(name: str):
         return __version__
     import importlib
 
-    if name in ("analyses", "analysis", "contact", "models", "solvers", "structure",
+    if name in ("analyses", "analysis", "cases", "cli", "contact", "models", "signals",
+                "solvers", "structure",
                 "studies"):
         return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module 'fricdamp' has no attribute {name!r}")
+
+
+from fricdamp import _moved  # noqa: E402,F401  (old module paths, see _moved.py)

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from cli_cases import BASE_CASE
 
-from fricdamp.cli import main
+from fricdamp.cli.app import main
 
 
 @pytest.fixture
@@ -19,7 +19,7 @@ def base_case() -> str:
 
 @pytest.fixture
 def cli(capsys):
-    """Call ``fricdamp.cli.main(args)``; return (exit code, stdout, stderr)."""
+    """Call ``fricdamp.cli.app.main(args)``; return (exit code, stdout, stderr)."""
     def _run(*args) -> tuple[int, str, str]:
         code = main([str(a) for a in args])
         out = capsys.readouterr()

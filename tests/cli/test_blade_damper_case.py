@@ -5,7 +5,7 @@ import json
 import pytest
 import xarray as xr
 
-from fricdamp.cli import main
+from fricdamp.cli.app import main
 
 BASE = """
 name = "bd"

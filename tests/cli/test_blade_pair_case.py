@@ -139,7 +139,7 @@ def test_schema_defaults_are_the_library_defaults():
     to within one rounding), so the case and the library cannot drift apart."""
     from dataclasses import asdict
 
-    from fricdamp.models.blade_pair import BladePairParameters
+    from fricdamp.models.blade_pair.model import BladePairParameters
     from fricdamp.runner import BuildContext
 
     entry = REGISTRY.models["blade_pair"]
@@ -281,8 +281,8 @@ def test_top_level_keys_may_not_clash(tmp_path, top, other, match):
 
 def test_stick_stiffness_reaches_the_model():
     """tangential_stiffness_N_per_m: the equivalent-damping law becomes the Jenkins one."""
-    from fricdamp.analyses.blade_pair import BladePairSpec
-    from fricdamp.models.blade_pair import JenkinsEllipseDamping
+    from fricdamp.models.blade_pair.case import BladePairSpec
+    from fricdamp.models.blade_pair.model import JenkinsEllipseDamping
     from fricdamp.runner import BuildContext
 
     entry = REGISTRY.models["blade_pair"]

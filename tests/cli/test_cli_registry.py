@@ -105,8 +105,8 @@ def test_coulomb_closed_form_against_the_law(mus, mud):
     to mu_d N falls between samples: a first-order error of at most
     (mu_s - mu_d) N du / W with du = 2 pi A / 8000; tolerance 2e-3. mu_s = mu_d must equal
     the Jenkins form to round-off."""
-    from fricdamp.analysis.energy import loop_area
     from fricdamp.contact import Jenkins
+    from fricdamp.signals.energy import loop_area
 
     kt, N = 1.0e5, 10.0
     law = Coulomb(kt, N, mus, mud)

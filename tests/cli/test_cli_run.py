@@ -15,7 +15,7 @@ import pytest
 import xarray as xr
 from cli_cases import BASE_CASE
 
-from fricdamp.cli import _progress_wanted
+from fricdamp.cli.app import _progress_wanted
 
 EXTRA = """
 [analysis.forced_response]
@@ -53,7 +53,7 @@ samples_per_cycle = 2000
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory):
     """Run the one-DOF case with all three analyses once; return (out dir, stdout, stderr)."""
-    from fricdamp.cli import main
+    from fricdamp.cli.app import main
 
     d = tmp_path_factory.mktemp("run")
     case = d / "one_dof.toml"

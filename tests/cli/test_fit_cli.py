@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
-from fricdamp.analysis.fit import fit_joint, read_fit_input
 from fricdamp.contact import Jenkins
 from fricdamp.contact.rough import RoughRotationalJoint
+from fricdamp.signals.fit import fit_joint, read_fit_input
 
 
 def _loop_csv(path, law, amp, *, n=160, noise=0.01, seed=0, rotational=False,

@@ -110,7 +110,7 @@ def test_schema_defaults_are_the_library_defaults():
     """The case's defaults build paper 002's joint (RoughRotationalJoint.paper_002, the rig's
     coarser paper002_joint) and RigParameters() exactly (guards against the two drifting)."""
     from fricdamp.contact.rough import RoughRotationalJoint
-    from fricdamp.models.rotational_joint import RigParameters, paper002_joint
+    from fricdamp.models.rotational_joint.model import RigParameters, paper002_joint
     from fricdamp.runner import BuildContext
 
     entry = REGISTRY.models["rotational_joint_rig"]

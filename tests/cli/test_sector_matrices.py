@@ -80,7 +80,7 @@ def exported(tmp_path_factory):
     np.savetxt(d / "dofs_part.txt", ref[part], fmt="%d")
     # rotation matrices at 300 rpm, as an FE program gives them (fricdamp's own, exported)
     from fricdamp.models.contact_wheel import sector_from_solid
-    from fricdamp.models.solid_campbell import rotation_terms
+    from fricdamp.models.tieboss_wheel.solid_campbell import rotation_terms
 
     ws = sector_from_solid(solid, n_sectors=30, youngs_modulus=2.1e11,
                            probe_direction=[0, 1, 1])
@@ -105,7 +105,7 @@ def _run(cli, d, text, name):
 
 def test_matrix_files_give_the_mesh_routes_frequencies(cli, exported):
     from fricdamp.models.contact_wheel import sector_from_solid
-    from fricdamp.models.tieboss_analyses import modal_by_nd
+    from fricdamp.models.tieboss_wheel.studies import modal_by_nd
 
     d, solid = exported
     s = _run(cli, d, CASE, "files")
@@ -176,7 +176,7 @@ def test_the_fe_programs_rotation_matrices_give_the_same_campbell(cli, exported)
     itself, exported in the FE program's order) give the Campbell diagram and critical speeds
     of fricdamp's own rotation terms (1e-8: the same matrices scaled by (n / 300)^2)."""
     from fricdamp.models.contact_wheel import sector_from_solid
-    from fricdamp.models.solid_campbell import (
+    from fricdamp.models.tieboss_wheel.solid_campbell import (
         campbell_solid,
         critical_speeds_solid,
         rotation_terms,

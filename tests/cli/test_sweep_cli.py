@@ -1,6 +1,6 @@
 """``fricdamp sweep`` / ``fricdamp optimize`` on a real case: outputs, physics, resume, errors.
 
-The handlers are called through :func:`fricdamp.cli_studies.main` (the same argparse
+The handlers are called through :func:`fricdamp.cli.studies.main` (the same argparse
 subcommands the ``fricdamp`` command mounts). The case is one mass m = 1 kg on a spring
 k = 1e4 N/m with a Jenkins contact to ground (stiffness k_t, slip force F_s), released from
 x0 at rest, without viscous damping. Closed forms used:
@@ -23,7 +23,7 @@ import time
 import numpy as np
 import pytest
 
-from fricdamp.cli_studies import main
+from fricdamp.cli.studies import main
 
 CASE = """\
 name = "one_dof"
@@ -197,7 +197,7 @@ def test_terminated_cli_sweep_resumes_without_losing_or_recomputing(case, tmp_pa
     """SIGTERM mid-study: exit 130 with a summary; the same command then finishes the rest."""
     path = case(duration=0.4)  # 400 steps: a few tenths of a second per point
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "fricdamp.cli_studies", "sweep", str(path), "--grid",
+    cmd = [sys.executable, "-m", "fricdamp.cli.studies", "sweep", str(path), "--grid",
            "stiffness_N_per_m=1e3:1e4:10", "--serial", "--out", str(out), "--no-figures"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:

@@ -146,7 +146,7 @@ def test_generic_analyses_refused_on_the_tieboss_model(assert_rejected):
 def test_schema_defaults_are_the_library_defaults():
     """The case's defaults build TiebossWheelParameters() exactly (same names), so the case
     and the library cannot drift apart."""
-    from fricdamp.models.tieboss_wheel import TiebossWheelParameters
+    from fricdamp.models.tieboss_wheel.model import TiebossWheelParameters
 
     entry = REGISTRY.models["tieboss_wheel"]
     spec = entry.schema()

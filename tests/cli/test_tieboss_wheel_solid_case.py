@@ -53,7 +53,7 @@ save_every = 1
 
 @pytest.fixture(scope="module")
 def solid_run(tmp_path_factory):
-    from fricdamp.cli import main
+    from fricdamp.cli.app import main
 
     d = tmp_path_factory.mktemp("solid")
     path = d / "case.toml"
@@ -197,7 +197,7 @@ def test_imported_sector_equals_the_built_one(cli, write_case, tmp_path):
     sector built in Python (same nodes and elements: equal to round-off)."""
     import meshio
 
-    from fricdamp.models.tieboss_analyses import modal_by_nd
+    from fricdamp.models.tieboss_wheel.studies import modal_by_nd
     from fricdamp.structure.solid import assemble_solid, mesh_from_meshio
 
     code, out, err = cli("run", write_case(IMPORT), "--out", tmp_path / "out")
@@ -249,7 +249,7 @@ def test_decay_verdict_flags_what_the_estimates_show():
     1 % of the steps, or a decay without envelope peaks, likewise; clean runs are ok."""
     from types import SimpleNamespace
 
-    from fricdamp.analyses.tieboss_wheel_solid import _decay_verdict
+    from fricdamp.models.tieboss_wheel.case_solid import _decay_verdict
 
     def run(ebe=1e-4, loose=0, peaks=True, nd=6):
         decay = SimpleNamespace(mean_frequency_hz=49.0) if peaks else None

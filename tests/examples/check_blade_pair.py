@@ -37,7 +37,7 @@ from scipy.special import ellipe
 def parameters(model: dict):
     """BladePairParameters from the case's [model] table (every default filled in, as in
     summary.json ``case.model``): the key names and units mapped here by hand."""
-    from fricdamp.models.blade_pair import BladePairParameters
+    from fricdamp.models.blade_pair.model import BladePairParameters
 
     m = model
     return BladePairParameters(
@@ -89,7 +89,7 @@ def natural_frequencies(K: np.ndarray, M: np.ndarray) -> np.ndarray:
 
 def check(summary: dict, case: dict) -> None:
     """Assert the Campbell diagram and the steady states against the references."""
-    from fricdamp.models.blade_pair import build_blade_pair
+    from fricdamp.models.blade_pair.model import build_blade_pair
 
     mc = summary["case"]["model"]
     model = build_blade_pair(parameters(mc))

@@ -50,7 +50,11 @@ PAPER_ZETA = {2: 0.012, 6: 0.022}
 
 def _wheel(model: dict):
     """The full wheel of the case's [model] table (every default filled in)."""
-    from fricdamp.models.tieboss_wheel import TiebossWheelParameters, build_sector, build_wheel
+    from fricdamp.models.tieboss_wheel.model import (
+        TiebossWheelParameters,
+        build_sector,
+        build_wheel,
+    )
 
     kw = {f.name: model[f.name] for f in fields(TiebossWheelParameters)}
     kw["damping_band_hz"] = tuple(kw["damping_band_hz"])

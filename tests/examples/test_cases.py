@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from fricdamp.cli import main
+from fricdamp.cli.app import main
 
 CASES = sorted((Path(__file__).resolve().parents[2] / "examples" / "cases").glob("*.toml"))
 

@@ -98,7 +98,7 @@ def test_compiled_time_response_equals_generic():
     """Three forcing periods with stick-slip (58 Hz, 8 N) through both paths: same events and
     states to the DOP853 tolerance (rtol 1e-10: the paths differ in round-off only, which
     the step-size control amplifies at most to its tolerance)."""
-    from fricdamp.models.blade_damper_analyses import time_response
+    from fricdamp.models.blade_damper.studies import time_response
 
     p = BladeDamperParameters(excitation_amplitude=8.0, excitation_frequency=58.0)
     a = time_response(BladeDamperSystem(p), 3.0, rtol=1e-10).result

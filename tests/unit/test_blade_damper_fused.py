@@ -25,7 +25,7 @@ import pytest
 
 from fricdamp.errors import ConvergenceError
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
-from fricdamp.models.blade_damper_analyses import time_response
+from fricdamp.models.blade_damper.studies import time_response
 from fricdamp.solvers.event_switch import Evaluator
 
 RNG = np.random.default_rng(1414)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
-from fricdamp.models._blade_damper_kinematics import kinematics, linearised_kinematics
+from fricdamp.models.blade_damper._kinematics import kinematics, linearised_kinematics
 
 RNG = np.random.default_rng(20260101)
 
@@ -192,7 +192,7 @@ def test_lambdified_functions_are_cached():
 
 def test_import_does_not_run_sympy():
     """Importing fricdamp.models must not import sympy or matplotlib (lazy derivation)."""
-    code = ("import sys, fricdamp, fricdamp.models, fricdamp.models.blade_damper_analyses; "
+    code = ("import sys, fricdamp, fricdamp.models, fricdamp.models.blade_damper.studies; "
             "print('sympy' in sys.modules, 'matplotlib' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.split()

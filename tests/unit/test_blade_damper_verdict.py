@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from fricdamp.models.blade_damper import BladeDamperParameters
-from fricdamp.models.blade_damper_analyses import time_response
+from fricdamp.models.blade_damper.model import BladeDamperParameters
+from fricdamp.models.blade_damper.studies import time_response
 
 LIFTOFF = dict(masses=(0.30, 0.15, 0.30, 0.165), stiffnesses=(7.2e4, 2.3e4, 8.6e4, 2.6e4),
                dampings=(2.9, 1.2, 3.2, 1.3), damper_mass=1.0e-3, gamma=np.deg2rad(50.0),

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fricdamp.errors import ModelError
-from fricdamp.models.blade_pair import (
+from fricdamp.models.blade_pair.model import (
     TABLE_1,
     BladePairParameters,
     build_blade_pair,

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from fricdamp.errors import ModelError
-from fricdamp.models.blade_pair import BladePairParameters, build_blade_pair
-from fricdamp.models.blade_pair_analyses import (
+from fricdamp.models.blade_pair.model import BladePairParameters, build_blade_pair
+from fricdamp.models.blade_pair.studies import (
     campbell_diagram,
     complex_modes,
     run_blade_pair_case,

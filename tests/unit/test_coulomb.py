@@ -8,10 +8,10 @@ loop W = 4 F (A - F/k)); the static/kinetic loop closed form derived in
 import numpy as np
 import pytest
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact import Jenkins
 from fricdamp.contact.coulomb import Coulomb, coulomb_force_set, friction_coefficient
 from fricdamp.errors import ModelError
+from fricdamp.signals.energy import loop_area
 
 # ---------------------------------------------------------------- friction_coefficient
 

@@ -23,7 +23,7 @@ from threadpoolctl import threadpool_limits
 
 import fricdamp.structure.cyclic_reduction as cr
 from fricdamp.errors import ModelError
-from fricdamp.models.tieboss_wheel import build_sector
+from fricdamp.models.tieboss_wheel.model import build_sector
 from fricdamp.structure.cyclic import CyclicSector, assemble_full
 from fricdamp.structure.cyclic_reduction import lattice_sector, reduce_sector, wheel_modes
 

@@ -17,7 +17,8 @@ form: checked to 1e-12); the ratios built on it therefore carry the relative err
 import numpy as np
 import pytest
 
-from fricdamp.analysis.damping import (
+from fricdamp.errors import ModelError
+from fricdamp.signals.damping import (
     coulomb_equivalent_ratio,
     energy_damping_ratio,
     equivalent_viscous_damping,
@@ -27,8 +28,7 @@ from fricdamp.analysis.damping import (
     paper002_supplied_energy,
     zeta_from_log_decrement,
 )
-from fricdamp.analysis.energy import loop_area, peak_strain_energy
-from fricdamp.errors import ModelError
+from fricdamp.signals.energy import loop_area, peak_strain_energy
 
 N = 3600
 

@@ -19,8 +19,9 @@ import json
 import numpy as np
 import pytest
 
-from fricdamp.analysis.damping import coulomb_equivalent_ratio, zeta_from_log_decrement
-from fricdamp.analysis.decay import (
+from fricdamp.errors import ModelError
+from fricdamp.signals.damping import coulomb_equivalent_ratio, zeta_from_log_decrement
+from fricdamp.signals.decay import (
     Peaks,
     coulomb_envelope_fit,
     decay_damping,
@@ -30,7 +31,6 @@ from fricdamp.analysis.decay import (
     log_decrement,
     viscous_envelope_fit,
 )
-from fricdamp.errors import ModelError
 
 FN = 10.0
 WN = 2 * np.pi * FN

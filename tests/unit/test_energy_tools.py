@@ -10,16 +10,16 @@ References
 import numpy as np
 import pytest
 
-from fricdamp.analysis.energy import (
+from fricdamp.contact import Jenkins
+from fricdamp.errors import ModelError
+from fricdamp.signals.energy import (
     dissipated_energy_per_cycle,
     hysteresis_loop,
     loop_area,
     peak_strain_energy,
     steady_cycle,
 )
-from fricdamp.analysis.signals import fft_integrate, read_signals_csv
-from fricdamp.contact import Jenkins
-from fricdamp.errors import ModelError
+from fricdamp.signals.records import fft_integrate, read_signals_csv
 
 # ---------------------------------------------------------------------------------------------
 # steady cycles and loops

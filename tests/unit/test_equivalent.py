@@ -233,7 +233,7 @@ def test_rectangle_twist_stiffness_is_the_polar_moment_of_a_uniform_stiffness():
     """k_r = (k_t / (a h)) int (x^2 + y^2) dA over the rectangle (scipy.integrate.dblquad,
     1e-10); the stick-stiffness law of paper 001's case lives here and is re-exported."""
     from fricdamp.contact.equivalent import JenkinsEllipseDamping, rectangle_twist_stiffness
-    from fricdamp.models import blade_pair
+    from fricdamp.models.blade_pair import model as blade_pair
 
     kt, a, h = 3.0e6, 0.012, 0.005
     polar, _ = integrate.dblquad(lambda y, x: x * x + y * y, -a / 2, a / 2, -h / 2, h / 2,

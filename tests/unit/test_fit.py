@@ -1,4 +1,4 @@
-"""Joint-model fitting (fricdamp.analysis.fit): input files, the rough joint's
+"""Joint-model fitting (fricdamp.signals.fit): input files, the rough joint's
 reparameterisation, the fit's intervals and verdicts.
 
 References: the laws' own loops (exact, noise-free) or with white noise of a known level;
@@ -11,10 +11,10 @@ import math
 import numpy as np
 import pytest
 
-from fricdamp.analysis.fit import Loop, fit_joint, read_fit_input, rough_joint
 from fricdamp.contact import Jenkins
 from fricdamp.contact.rough import RoughRotationalJoint
 from fricdamp.errors import ModelError
+from fricdamp.signals.fit import Loop, fit_joint, read_fit_input, rough_joint
 
 
 def loops_of(law, amps, *, n=160, noise=0.0, seed=0, rotational=False, phase=0.0):

@@ -1,4 +1,4 @@
-"""Paper 002's post-processing pipeline (fricdamp.analysis.identify) on exact synthetic signals.
+"""Paper 002's post-processing pipeline (fricdamp.signals.identify) on exact synthetic signals.
 
 The beams' motion is prescribed as a few harmonics (zero mean, so that the constants of
 integration, which no accelerometer measures, are zero); the accelerometer readings follow from
@@ -11,9 +11,10 @@ and the loop area of the true torque. References: Bouchaala et al. 2014, Fig. 7,
 import numpy as np
 import pytest
 
-from fricdamp.analysis.damping import paper002_damping_ratio
-from fricdamp.analysis.energy import loop_area
-from fricdamp.analysis.identify import (
+from fricdamp.errors import ModelError
+from fricdamp.signals.damping import paper002_damping_ratio
+from fricdamp.signals.energy import loop_area
+from fricdamp.signals.identify import (
     JointRigGeometry,
     acceleration_scale,
     estimate_frequency,
@@ -21,8 +22,7 @@ from fricdamp.analysis.identify import (
     identify_joint,
     joint_torque,
 )
-from fricdamp.analysis.signals import read_signals_csv
-from fricdamp.errors import ModelError
+from fricdamp.signals.records import read_signals_csv
 
 GEOM = JointRigGeometry(sensor_a=-0.09, sensor_b=0.0, joint_arm1=0.091, sensor_c=0.09,
                         joint_arm2=0.091, beam2_mass=0.44, beam2_inertia=1.55e-3)

@@ -1,4 +1,4 @@
-"""``fricdamp identify`` (fricdamp.cli_identify): rig TOML, CSV and UFF input, outputs, errors.
+"""``fricdamp identify`` (fricdamp.cli.identify): rig TOML, CSV and UFF input, outputs, errors.
 
 The numbers written must be the library's (identify_from_table on the same file); the input
 errors must exit with status 2 and one line naming the key or the file.
@@ -9,12 +9,12 @@ import json
 import numpy as np
 import pytest
 
-from fricdamp.analysis.identify import identify_from_table
-from fricdamp.analysis.signals import read_signals_csv
-from fricdamp.cli_identify import load_rig_file, main
+from fricdamp.cli.identify import load_rig_file, main
 from fricdamp.contact import Jenkins
 from fricdamp.errors import CaseError
-from fricdamp.models.rotational_joint import RigParameters, RotationalJointRig
+from fricdamp.models.rotational_joint.model import RigParameters, RotationalJointRig
+from fricdamp.signals.identify import identify_from_table
+from fricdamp.signals.records import read_signals_csv
 
 RIG = """
 [rig]
@@ -236,7 +236,7 @@ def test_summary_carries_the_verdict_of_the_results_contract(files, tmp_path, ca
 
 def test_output_folder_is_checked_before_computing(files, tmp_path, capsys, monkeypatch):
     """An --out that is a file is refused in one line before the signals are processed."""
-    import fricdamp.analysis.identify as ident_module
+    import fricdamp.signals.identify as ident_module
 
     def never(*a, **k):
         raise AssertionError("computed before the output folder was checked")

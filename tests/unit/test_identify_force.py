@@ -1,4 +1,4 @@
-"""The shaker's force channel in the joint identification (fricdamp.analysis._identify_force).
+"""The shaker's force channel in the joint identification (fricdamp.signals._identify_force).
 
 Validation on the simulated rig of paper 002 (rough joint of Table 2): with the exact
 signals the joint torque from the theta1 equation and the measured force agrees with the one
@@ -16,10 +16,10 @@ import json
 import numpy as np
 import pytest
 
-from fricdamp.analysis.identify import DrivenBeam, TrustThresholds, identify_joint
-from fricdamp.cli_identify import load_rig_file, main
+from fricdamp.cli.identify import load_rig_file, main
 from fricdamp.errors import CaseError, ModelError
-from fricdamp.models.rotational_joint import RigParameters, RotationalJointRig, paper002_joint
+from fricdamp.models.rotational_joint.model import RigParameters, RotationalJointRig, paper002_joint
+from fricdamp.signals.identify import DrivenBeam, TrustThresholds, identify_joint
 
 #: 1 N: micro-slip (rotation ~1e-6 rad, the joint takes 0.02 % of the input);
 #: 5 N: gross slip (the joint takes 30 %)
@@ -159,7 +159,7 @@ def test_cli_force_channel(tmp_path, rig, records, capsys):
     rig_file.write_text(RIG + SHAKER)
     spec, _ = load_rig_file(rig_file)
     # I1 from 002 (9) with the rig file's masses and positions = the simulated rig's
-    from fricdamp.cli_identify import driven_beam
+    from fricdamp.cli.identify import driven_beam
 
     assert driven_beam(spec).beam1_inertia == pytest.approx(rig.params.inertia1, rel=1e-12)
     base = ["identify", "--rig", str(rig_file), "--no-diagnostics"]
@@ -193,7 +193,7 @@ def test_summary_verdict_carries_the_force_estimates(tmp_path, records, capsys):
 
 
 def test_closed_loop_uses_the_simulated_force_on_request(rig):
-    from fricdamp.models.rotational_joint import closed_loop_identification
+    from fricdamp.models.rotational_joint.model import closed_loop_identification
 
     res = rig.simulate(5.0, periods=12, steps_per_period=160)
     plain = closed_loop_identification(rig, 5.0, response=res, analysed_periods=6,

@@ -7,10 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from fricdamp.analysis.identify import JointRigGeometry, identify_from_table, identify_joint
-from fricdamp.analysis.signals import read_signals_csv, uniform_time
-from fricdamp.cli_identify import main
+from fricdamp.cli.identify import main
 from fricdamp.errors import ModelError
+from fricdamp.signals.identify import JointRigGeometry, identify_from_table, identify_joint
+from fricdamp.signals.records import read_signals_csv, uniform_time
 
 GEOM = JointRigGeometry(sensor_a=-0.09, sensor_b=0.0, joint_arm1=0.091, sensor_c=0.09,
                         joint_arm2=0.091, beam2_mass=0.44, beam2_inertia=1.55e-3)

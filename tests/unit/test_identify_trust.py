@@ -1,4 +1,4 @@
-"""Diagnostics of the joint identification (fricdamp.analysis._identify_trust).
+"""Diagnostics of the joint identification (fricdamp.signals._identify_trust).
 
 Signals are exact readings of a prescribed periodic motion (as in test_identify.py), so the
 true loop is known. The Monte Carlo is checked against first-order propagation (finite
@@ -12,15 +12,15 @@ import dataclasses
 import numpy as np
 import pytest
 
-from fricdamp.analysis.energy import loop_area
-from fricdamp.analysis.identify import (
+from fricdamp.errors import ModelError
+from fricdamp.signals.energy import loop_area
+from fricdamp.signals.identify import (
     JointRigGeometry,
     MeasurementUncertainty,
     TrustThresholds,
     identify_joint,
     joint_torque,
 )
-from fricdamp.errors import ModelError
 
 GEOM = JointRigGeometry(sensor_a=-0.09, sensor_b=0.0, joint_arm1=0.091, sensor_c=0.09,
                         joint_arm2=0.091, beam2_mass=0.44, beam2_inertia=1.55e-3)

@@ -1,4 +1,4 @@
-"""Universal File Format reader (fricdamp.analysis.uff): files written with pyuff itself.
+"""Universal File Format reader (fricdamp.signals.uff): files written with pyuff itself.
 
 Round trips are exact for binary datasets and to the 12 significant digits of the ASCII
 format (tolerance 1e-11 relative) otherwise.
@@ -9,13 +9,13 @@ import pytest
 
 pyuff = pytest.importorskip("pyuff")
 
-from fricdamp.analysis.identify import (  # noqa: E402
+from fricdamp.errors import ModelError  # noqa: E402
+from fricdamp.signals.identify import (  # noqa: E402
     JointRigGeometry,
     identify_from_table,
     identify_joint,
 )
-from fricdamp.analysis.uff import read_signals_uff  # noqa: E402
-from fricdamp.errors import ModelError  # noqa: E402
+from fricdamp.signals.uff import read_signals_uff  # noqa: E402
 
 F0 = 30.0
 GEOM = JointRigGeometry(sensor_a=-0.09, sensor_b=0.0, joint_arm1=0.091, sensor_c=0.09,

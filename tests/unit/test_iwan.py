@@ -10,10 +10,10 @@ element.
 import numpy as np
 import pytest
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact import Iwan, Jenkins
 from fricdamp.contact.base import ContactLaw
 from fricdamp.errors import ModelError
+from fricdamp.signals.energy import loop_area
 from fricdamp.solvers.hb import harmonic_balance
 from fricdamp.solvers.timestep import simulate
 from fricdamp.structure import ContactElement, HarmonicLoad, MechanicalSystem

@@ -4,7 +4,7 @@ CoulombSystem used by ``[analysis.periodic_orbit]`` (rigid stick, per-row contac
 import numpy as np
 import pytest
 
-from fricdamp.analyses.periodic import coulomb_system
+from fricdamp.cases.periodic import coulomb_system
 from fricdamp.contact import Jenkins
 from fricdamp.contact.coulomb import Coulomb
 from fricdamp.errors import CaseError

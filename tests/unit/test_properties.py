@@ -122,7 +122,7 @@ def test_tangent_equals_finite_difference(kind, k, fs, history, target):
 @given(k=st.floats(1e3, 1e8), fs=st.floats(0.1, 100.0),
        bad=st.sampled_from([math.nan, math.inf, -math.inf]), where=st.integers(0, 9))
 def test_nan_and_inf_are_refused_at_the_law_boundary(k, fs, bad, where):
-    from fricdamp.analysis.energy import loop_area
+    from fricdamp.signals.energy import loop_area
 
     u = np.linspace(0.0, 1e-3, 10)
     u[where] = bad

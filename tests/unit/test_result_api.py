@@ -109,7 +109,7 @@ def _campbell_result():
 
 
 def _decay_result():
-    from fricdamp.analysis.decay import decay_damping
+    from fricdamp.signals.decay import decay_damping
 
     t = np.linspace(0.0, 2.0, 4001)
     w = 2 * np.pi * 10.0
@@ -192,8 +192,8 @@ def _modal_static():
 
 
 def _fit_result():
-    from fricdamp.analysis.fit import fit_joint
-    from fricdamp.analysis.signals import Loop
+    from fricdamp.signals.fit import fit_joint
+    from fricdamp.signals.records import Loop
 
     law = Jenkins(2.0e5, 4.0)
     loops = []
@@ -205,7 +205,7 @@ def _fit_result():
 
 
 def _joint_identification(diagnostics=True):
-    from fricdamp.analysis.identify import JointRigGeometry, identify_joint
+    from fricdamp.signals.identify import JointRigGeometry, identify_joint
 
     geom = JointRigGeometry(sensor_a=-0.09, sensor_b=0.0, joint_arm1=0.091, sensor_c=0.09,
                             joint_arm2=0.091, beam2_mass=0.44, beam2_inertia=1.55e-3)
@@ -417,7 +417,7 @@ def test_harmonic_load_without_omega():
 def test_decay_of_two_modes_warns_and_is_unreliable():
     """10 Hz + 13.7 Hz (60 % amplitude) beat: UserWarning naming the second mode, verdict
     unreliable; the single viscous decay of the conformance test is ok without a warning."""
-    from fricdamp.analysis.decay import decay_damping
+    from fricdamp.signals.decay import decay_damping
 
     t = np.linspace(0.0, 2.0, 4001)
     w1, w2 = 2 * np.pi * 10.0, 2 * np.pi * 13.7

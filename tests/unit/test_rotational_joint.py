@@ -1,4 +1,4 @@
-"""Paper 002's test-structure model and joint curves (fricdamp.models.rotational_joint).
+"""Paper 002's test-structure model and joint curves (fricdamp.models.rotational_joint.model).
 
 References: Bouchaala et al. 2014, eqs (7), (9), (10) (rig quantities), Figs 14, 16, 17 (joint
 curves); Mindlin & Deresiewicz / Masing (Cattaneo–Mindlin cycle energy, derived below);
@@ -9,18 +9,18 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact import Jenkins
 from fricdamp.contact.mindlin import RotationalMindlin
 from fricdamp.contact.rough import RoughRotationalJoint
 from fricdamp.errors import ModelError
-from fricdamp.models.rotational_joint import (
+from fricdamp.models.rotational_joint.model import (
     RigParameters,
     RotationalJointRig,
     joint_curves,
     paper002_joint,
     symmetric_cycle,
 )
+from fricdamp.signals.energy import loop_area
 from fricdamp.solvers.timestep import simulate
 
 

@@ -14,14 +14,14 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from fricdamp.analysis.identify import (
+from fricdamp.contact import Jenkins
+from fricdamp.models.rotational_joint.model import RigParameters, RotationalJointRig
+from fricdamp.signals.identify import (
     JointRigGeometry,
     beam_accelerations,
     beam_accelerations_exact,
     joint_torque,
 )
-from fricdamp.contact import Jenkins
-from fricdamp.models.rotational_joint import RigParameters, RotationalJointRig
 
 t = sp.symbols("t")
 m1, m2, I1, I2, d1, d2, d3, d4, d5, g = sp.symbols("m1 m2 I1 I2 d1 d2 d3 d4 d5 g",

@@ -20,7 +20,7 @@ import pytest
 from scipy.optimize import brentq
 
 from fricdamp.contact.rough import RoughRotationalJoint
-from fricdamp.models.rotational_joint import (
+from fricdamp.models.rotational_joint.model import (
     RigParameters,
     RotationalJointRig,
     joint_curves,

@@ -248,7 +248,7 @@ def test_without_distributed_serial_works_and_dask_says_what_to_install(monkeypa
 
 
 def test_import_fricdamp_studies_pulls_no_dask_nor_matplotlib():
-    code = ("import sys, fricdamp, fricdamp.studies, fricdamp.cli_studies; "
+    code = ("import sys, fricdamp, fricdamp.studies, fricdamp.cli.studies; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] in "
             "('dask', 'distributed', 'matplotlib')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 
 from fricdamp.errors import ModelError
-from fricdamp.models.tieboss_solid import (
+from fricdamp.models.tieboss_wheel.model import contact_frame
+from fricdamp.models.tieboss_wheel.solid import (
     SolidWheelParameters,
     build_sector_mesh,
     build_solid_sector,
     contact_centres,
     match_periodic_nodes,
 )
-from fricdamp.models.tieboss_wheel import contact_frame
 
 pytest.importorskip("gmsh")
 pytest.importorskip("meshio")

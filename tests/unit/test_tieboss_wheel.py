@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from fricdamp.errors import ModelError
-from fricdamp.models.tieboss_wheel import (
+from fricdamp.models.tieboss_wheel.model import (
     TiebossWheelParameters,
     build_sector,
     build_wheel,

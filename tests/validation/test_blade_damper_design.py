@@ -7,7 +7,7 @@ import pytest
 
 from fricdamp.errors import ModelError
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
-from fricdamp.models.blade_damper_analyses import (
+from fricdamp.models.blade_damper.studies import (
     default_design_band,
     design_study,
     pulloff_curve,
@@ -67,7 +67,7 @@ def test_friction_limits_the_resonance():
     here is not periodic, the contacts take turns irregularly) and friction dissipates a
     good part of the input; the amplitude stays within 10 % of the steady value (the
     largest over the 8-period window)."""
-    from fricdamp.models.blade_damper_analyses import time_response
+    from fricdamp.models.blade_damper.studies import time_response
 
     p = BladeDamperParameters(excitation_amplitude=3.0)
     f0 = BladeDamperSystem(p).stuck_system().eigenfrequencies()[1]
@@ -112,7 +112,7 @@ def test_design_study_rejects_bad_grids():
 def test_optimum_skips_designs_that_violate_the_model():
     """A design whose sweep reported a negative normal force (the damper would lift off) is
     not a valid optimum even if its amplitude is the smallest."""
-    from fricdamp.models.blade_damper_analyses import DesignStudy
+    from fricdamp.models.blade_damper.studies import DesignStudy
 
     A = np.array([[[3.0, 1.0], [2.0, 4.0]]])
     ds = DesignStudy(damper_mass_kg=np.array([1e-3, 2e-3]), gamma_deg=np.array([50.0, 80.0]),

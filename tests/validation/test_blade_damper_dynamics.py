@@ -14,7 +14,7 @@ import pytest
 import scipy.linalg as sla
 
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
-from fricdamp.models.blade_damper_analyses import CONFIGURATIONS, time_response
+from fricdamp.models.blade_damper.studies import CONFIGURATIONS, time_response
 
 
 def _kicked(p, v):

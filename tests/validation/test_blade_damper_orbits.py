@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
-from fricdamp.models.blade_damper_analyses import (
+from fricdamp.models.blade_damper.studies import (
     DesignStudy,
     design_study,
     pulloff_curve,
@@ -85,7 +85,7 @@ def test_resonance_of_the_1g_65deg_design_is_a_period_two_orbit():
 def _fake_design(monkeypatch, lift_off_deg, slope):
     """resonance_amplitude replaced by a closed form of gamma: amplitude 1e-3 (1 - slope
     (gamma - 50)) falling with gamma, the damper lifting off above ``lift_off_deg``."""
-    import fricdamp.models.blade_damper_analyses as bda
+    import fricdamp.models.blade_damper.studies as bda
 
     calls = []
 
@@ -157,7 +157,7 @@ def test_default_study_has_no_boundary_without_lift_off():
 def test_unconverged_designs_near_the_optimum_are_found():
     """The design verdict's input: valid designs with an unconverged steady state, grid and
     bisection alike; an invalid (lifting-off) design does not count."""
-    from fricdamp.analyses.blade_damper import _unconverged_valid_designs
+    from fricdamp.models.blade_damper.case import _unconverged_valid_designs
 
     A = np.array([[[3.0, 1.0], [2.0, 4.0]]])
     ds = DesignStudy(damper_mass_kg=np.array([1e-3, 2e-3]), gamma_deg=np.array([50.0, 80.0]),

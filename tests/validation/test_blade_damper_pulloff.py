@@ -13,7 +13,7 @@ import pytest
 from scipy.signal import argrelmin, peak_prominences
 
 from fricdamp.models import BladeDamperParameters, BladeDamperSystem
-from fricdamp.models.blade_damper_analyses import (
+from fricdamp.models.blade_damper.studies import (
     confirm_pulloff,
     pulloff_curve,
     pulloff_curves,
@@ -145,7 +145,7 @@ def test_event_driven_runs_confirm_the_limit(f):
 def test_stuck_steady_state_is_a_periodic_stuck_solution():
     """The event-driven solver started on the stuck steady state below the limit reproduces
     the closed-form stuck motion (tolerance 1e-7 of the amplitude: DOP853 at rtol 1e-10)."""
-    from fricdamp.models.blade_damper_analyses import time_response
+    from fricdamp.models.blade_damper.studies import time_response
 
     p = BladeDamperParameters()
     lim = pulloff_curve(p, [45.0]).F_e_limit_N[0]

@@ -22,14 +22,14 @@ import numpy as np
 import pytest
 from threadpoolctl import threadpool_limits
 
-from fricdamp.models.blade_pair import (
+from fricdamp.models.blade_pair.hb import bands, compare_with_hb, hb_speed_sweep, hb_system
+from fricdamp.models.blade_pair.model import (
     BladePairParameters,
     JenkinsEllipseDamping,
     build_blade_pair,
     rpm_to_rad_s,
 )
-from fricdamp.models.blade_pair_analyses import solve_steady_states, steady_state_sweep
-from fricdamp.models.blade_pair_hb import bands, compare_with_hb, hb_speed_sweep, hb_system
+from fricdamp.models.blade_pair.studies import solve_steady_states, steady_state_sweep
 
 
 @pytest.fixture(autouse=True)

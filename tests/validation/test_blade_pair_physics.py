@@ -21,8 +21,8 @@ import scipy.linalg as sla
 from threadpoolctl import threadpool_limits
 
 from fricdamp.contact.equivalent import ellipse_perimeter
-from fricdamp.models.blade_pair import build_blade_pair, rpm_to_rad_s
-from fricdamp.models.blade_pair_analyses import (
+from fricdamp.models.blade_pair.model import build_blade_pair, rpm_to_rad_s
+from fricdamp.models.blade_pair.studies import (
     campbell_diagram,
     complex_modes,
     harmonic_balance_cross_check,
@@ -195,7 +195,7 @@ def test_complex_modes_solve_the_quadratic_eigenproblem(model, source):
     damping of 001 section 4.1 (from the response without friction damping, the default) or
     of the converged steady state (relative residual 1e-9); shapes normalised on the
     translations (the largest translational DOF is 1, every rotation may be larger)."""
-    from fricdamp.models.blade_pair_analyses import _condensed, equivalent_damping_matrix
+    from fricdamp.models.blade_pair.studies import _condensed, equivalent_damping_matrix
 
     modes = complex_modes(model, 2000.0, n_modes=3, damping_source=source)
     w = rpm_to_rad_s(2000.0)

@@ -17,8 +17,8 @@ import pytest
 
 from fricdamp.errors import ModelError
 from fricdamp.models.contact_wheel import ContactSettings, WheelSector, build_contact_wheel
-from fricdamp.models.tieboss_analyses import free_decay
-from fricdamp.models.tieboss_wheel import build_sector, build_wheel
+from fricdamp.models.tieboss_wheel.model import build_sector, build_wheel
+from fricdamp.models.tieboss_wheel.studies import free_decay
 from fricdamp.structure.contact_patch import ContactPatch
 
 

@@ -117,8 +117,8 @@ def _refined_peak(x, y):
 # ----------------------------------------------------------------------------- beam wheel
 @pytest.fixture(scope="module")
 def wheel6():
-    from fricdamp.models.tieboss_forced import cyclic_problem
-    from fricdamp.models.tieboss_wheel import build_sector
+    from fricdamp.models.tieboss_wheel.forced import cyclic_problem
+    from fricdamp.models.tieboss_wheel.model import build_sector
 
     sector = build_sector(rotation=True)
     pb, wheel = cyclic_problem(sector, 6, force_N=2.0, n_modes=4, harmonics=3, samples=120)
@@ -132,7 +132,7 @@ def _probe_amplitude(coeffs, d, H):
 
 
 def test_beam_wheel_cyclic_equals_full_wheel_hb(wheel6):
-    from fricdamp.models.tieboss_forced import expand_to_wheel, wheel_load
+    from fricdamp.models.tieboss_wheel.forced import expand_to_wheel, wheel_load
 
     sector, pb, wheel, res = wheel6
     assert res.success, res.message
@@ -157,8 +157,8 @@ def test_beam_wheel_cyclic_equals_full_wheel_hb(wheel6):
 
 def test_stuck_limit_energy_ratio_is_the_damped_eigenvalue_ratio():
     from fricdamp.contact.element3d import Contact3D
-    from fricdamp.models.tieboss_forced import cyclic_problem
-    from fricdamp.models.tieboss_wheel import build_sector
+    from fricdamp.models.tieboss_wheel.forced import cyclic_problem
+    from fricdamp.models.tieboss_wheel.model import build_sector
 
     sector = build_sector(rotation=False)
     p = sector.parameters
@@ -193,7 +193,7 @@ def test_stuck_limit_energy_ratio_is_the_damped_eigenvalue_ratio():
 
 @pytest.mark.slow
 def test_beam_wheel_peaks_match_full_continuation(wheel6):
-    from fricdamp.models.tieboss_forced import wheel_load
+    from fricdamp.models.tieboss_wheel.forced import wheel_load
 
     sector, pb, wheel, res = wheel6
     d = sector.flexural_direction
@@ -210,8 +210,8 @@ def test_beam_wheel_peaks_match_full_continuation(wheel6):
 
 @pytest.mark.slow
 def test_beam_wheel_time_integration_reaches_hb_state():
-    from fricdamp.models.tieboss_forced import cyclic_problem, wheel_load
-    from fricdamp.models.tieboss_wheel import build_sector
+    from fricdamp.models.tieboss_wheel.forced import cyclic_problem, wheel_load
+    from fricdamp.models.tieboss_wheel.model import build_sector
     from fricdamp.solvers.fast_transient import solve_static
     from fricdamp.solvers.timestep import simulate
 

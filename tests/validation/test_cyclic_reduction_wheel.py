@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 from threadpoolctl import threadpool_limits
 
-from fricdamp.models.tieboss_wheel import build_sector
+from fricdamp.models.tieboss_wheel.model import build_sector
 from fricdamp.structure.cyclic import nodal_diameter_modes
 from fricdamp.structure.cyclic_reduction import lattice_sector, reduce_sector, wheel_modes
 from fricdamp.structure.reduction import craig_bampton_sector

@@ -26,9 +26,9 @@ dissipation, energy balance, steady circle) hold to rounding (1e-12 to 1e-10).
 import numpy as np
 import pytest
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact import Jenkins
 from fricdamp.contact.element3d import Contact3D
+from fricdamp.signals.energy import loop_area
 
 KN, KT, MU = 1e5, 1e4, 0.5
 N_CYCLE = 4000

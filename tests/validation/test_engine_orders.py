@@ -18,7 +18,7 @@ References, independent of engine_order_content's 2D DFT:
 import numpy as np
 import pytest
 
-from fricdamp.models.tieboss_excitation import (
+from fricdamp.models.tieboss_wheel.excitation import (
     ElectromagnetRig,
     engine_order_content,
     engine_order_map,

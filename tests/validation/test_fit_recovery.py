@@ -13,9 +13,9 @@ values.
 import numpy as np
 import pytest
 
-from fricdamp.analysis.fit import Loop, fit_joint
 from fricdamp.contact import Iwan, Jenkins
 from fricdamp.contact.rough import RoughRotationalJoint
+from fricdamp.signals.fit import Loop, fit_joint
 
 NOISE = 0.01
 
@@ -77,8 +77,8 @@ def test_rig_identify_fit_chain():
     1.4 % and K0 0.5 % off; sigma 64 % off but flagged (its interval, +-60 %, holds the
     truth): the rig's loops are not symmetric cycles of the law (slow drift of the mean
     rotation, harmonic truncation) and only the transition loop at 2.5 N carries sigma."""
-    from fricdamp.analysis.identify import identify_joint
-    from fricdamp.models.rotational_joint import RotationalJointRig, paper002_joint
+    from fricdamp.models.rotational_joint.model import RotationalJointRig, paper002_joint
+    from fricdamp.signals.identify import identify_joint
 
     joint = paper002_joint()
     rig = RotationalJointRig(joint)

@@ -10,8 +10,8 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import erfc
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact.rough import GreenwoodWilliamson, RoughRotationalJoint, gw_integral
+from fricdamp.signals.energy import loop_area
 
 
 def phi(s):

@@ -18,7 +18,7 @@ compared with that ratio; the 5 % noise case is therefore run where the joint sl
 import numpy as np
 import pytest
 
-from fricdamp.models.rotational_joint import (
+from fricdamp.models.rotational_joint.model import (
     RotationalJointRig,
     closed_loop_identification,
     paper002_joint,

@@ -13,8 +13,8 @@ gross slip at 5 N is ok, +-5 % wide, and holds it.
 import numpy as np
 import pytest
 
-from fricdamp.analysis.identify import MeasurementUncertainty, identify_joint
-from fricdamp.models.rotational_joint import RotationalJointRig, paper002_joint
+from fricdamp.models.rotational_joint.model import RotationalJointRig, paper002_joint
+from fricdamp.signals.identify import MeasurementUncertainty, identify_joint
 
 PERIODS, SPP = 24, 200
 

@@ -9,8 +9,8 @@ corner where slip starts, of order (2 pi / 4000)^2 relative: tolerance 1e-5.
 import numpy as np
 import pytest
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact import Jenkins
+from fricdamp.signals.energy import loop_area
 
 
 def _steady_loop(law, amplitude, n=4000):

@@ -3,7 +3,7 @@ Contact Mechanics (1985) §7.3, eqs (7.43)–(7.59); REFERENCES.md).
 
 The law is driven by ``delta = delta* cos(theta)`` with ``delta*`` from the inverted loading
 curve, ``delta* = delta_s [1 - (1 - q)^(2/3)]`` for ``T* = q mu N``; the second cycle is
-integrated by the trapezoidal rule (``fricdamp.analysis.energy.loop_area``). With the
+integrated by the trapezoidal rule (``fricdamp.signals.energy.loop_area``). With the
 turning points sampled exactly (theta = 0, pi) and smooth branches in between, the rule's
 error is ``-(d theta)^2 / 6`` relative for every q (measured: 6.6e-6, 1.6e-6, 4.1e-7 at 1000,
 2000, 4000 samples per cycle, a clean second-order sequence); with 4000 samples we allow
@@ -14,7 +14,6 @@ small q (its bracket is a difference of O(1) terms equal to 5 q^3 / 162).
 import numpy as np
 import pytest
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact.mindlin import (
     CattaneoMindlin,
     effective_modulus,
@@ -22,6 +21,7 @@ from fricdamp.contact.mindlin import (
     shear_modulus,
     tangential_compliance,
 )
+from fricdamp.signals.energy import loop_area
 
 # steel ball R = 5 mm on a steel flat, N = 50 N, mu = 0.3
 E, NU, R, NLOAD, MU = 210e9, 0.3, 5e-3, 50.0, 0.3

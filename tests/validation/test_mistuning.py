@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from fricdamp.errors import ModelError
-from fricdamp.models.tieboss_wheel import build_sector
+from fricdamp.models.tieboss_wheel.model import build_sector
 from fricdamp.structure.cyclic_reduction import reduce_sector, wheel_modes
 from fricdamp.structure.mistuning import mistuned_modes, mistuned_wheel
 

@@ -11,8 +11,8 @@ import pytest
 import scipy.linalg as sla
 
 from fricdamp.errors import ModelError
-from fricdamp.models.tieboss_analyses import initial_deformation
-from fricdamp.models.tieboss_wheel import build_wheel
+from fricdamp.models.tieboss_wheel.model import build_wheel
+from fricdamp.models.tieboss_wheel.studies import initial_deformation
 from fricdamp.solvers.fast_transient import _stack_projection, integrate_contact3d, solve_static
 from fricdamp.solvers.modal_transient import ModalBasis, integrate_modal, solve_static_modal
 

@@ -6,7 +6,7 @@
 2. Two DOF chain (m = 1, k = 1, 1; dashpot 0.002 on the first spring) with a Jenkins contact
    (k_t = 0.1, F_s = 0.004) from the second mass to the ground. Free decay by time
    integration (Newmark, 128 steps per period, period error ~2e-4) from the EPMC motion at
-   the largest amplitude, identified by fricdamp.analysis.decay.decay_damping:
+   the largest amplitude, identified by fricdamp.signals.decay.decay_damping:
 
    * frequency: decay frequency (peak spacing) vs EPMC omega at the same peak amplitude of
      the second mass: 0.5 % (measured <= 0.15 %; EPMC neglects the slow amplitude change);
@@ -29,9 +29,9 @@
 import numpy as np
 import pytest
 
-from fricdamp.analysis.decay import decay_damping
 from fricdamp.contact import Jenkins
 from fricdamp.errors import ModelError
+from fricdamp.signals.decay import decay_damping
 from fricdamp.solvers.aft import HarmonicBasis
 from fricdamp.solvers.nma import nonlinear_modes
 from fricdamp.solvers.timestep import simulate

@@ -1,5 +1,5 @@
-"""Campbell diagram of a solid wheel (fricdamp.models.solid_campbell) on the shipped coarse
-sector (16k DOFs, tet10).
+"""Campbell diagram of a solid wheel (fricdamp.models.tieboss_wheel.solid_campbell) on
+the shipped coarse sector (16k DOFs, tet10).
 
 References, independent of the Rayleigh-Ritz branches:
 
@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from fricdamp.models.contact_wheel import sector_from_solid
-from fricdamp.models.solid_campbell import (
+from fricdamp.models.tieboss_wheel.solid_campbell import (
     _at_speed,
     campbell_solid,
     critical_speeds_solid,

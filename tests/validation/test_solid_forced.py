@@ -37,7 +37,7 @@ from threadpoolctl import threadpool_limits
 @pytest.fixture(scope="module")
 def wheel():
     from fricdamp.models.contact_wheel import build_contact_wheel
-    from fricdamp.models.tieboss_solid import SolidWheelParameters, build_solid_sector
+    from fricdamp.models.tieboss_wheel.solid import SolidWheelParameters, build_solid_sector
 
     with threadpool_limits(limits=1):
         sec = build_solid_sector(SolidWheelParameters(mesh_size_m=0.012, contact_divisions=2))
@@ -52,7 +52,7 @@ def _linear_full_wheel(wheel, nd, freqs, force_N, settings, offset, Krot=None, E
     (reduced, per (rad/s)^2) the wheel turns at ``omega / E``."""
     from dataclasses import replace
 
-    from fricdamp.models.solid_forced import contact_projection, load_phasor
+    from fricdamp.models.tieboss_wheel.solid_forced import contact_projection, load_phasor
     from fricdamp.structure.cyclic import assemble_full
 
     sec = wheel.reduced.sector
@@ -87,7 +87,7 @@ def _linear_full_wheel(wheel, nd, freqs, force_N, settings, offset, Krot=None, E
 
 def test_frictionless_limit_equals_the_assembled_full_wheel(wheel):
     from fricdamp.models.contact_wheel import ContactSettings
-    from fricdamp.models.solid_forced import solid_cyclic_problem, solve_point
+    from fricdamp.models.tieboss_wheel.solid_forced import solid_cyclic_problem, solve_point
 
     settings = ContactSettings(mu_static=0.0, mu_sliding=0.0)
     freqs = np.array([40.0, 46.0, 50.0, 54.0, 60.0])
@@ -104,7 +104,7 @@ def test_frictionless_limit_equals_the_assembled_full_wheel(wheel):
 
 
 def test_friction_damps_and_the_energy_balances(wheel):
-    from fricdamp.models.solid_forced import solid_forced_response
+    from fricdamp.models.tieboss_wheel.solid_forced import solid_forced_response
 
     with threadpool_limits(limits=1):
         r = solid_forced_response(wheel, 2, 44.2, 45.0, force_N=2.0, step=0.05,
@@ -122,8 +122,8 @@ def test_speed_locked_frictionless_limit_equals_the_spinning_full_wheel(wheel):
     softening, projected by the reduction). The same full-wheel reference with K_rot; the
     speed stiffening must move the response measurably (else the check could not fail)."""
     from fricdamp.models.contact_wheel import ContactSettings
-    from fricdamp.models.solid_campbell import rotation_terms
-    from fricdamp.models.solid_forced import (
+    from fricdamp.models.tieboss_wheel.solid_campbell import rotation_terms
+    from fricdamp.models.tieboss_wheel.solid_forced import (
         reduced_rotation_stiffness,
         solid_cyclic_problem,
         solve_point,

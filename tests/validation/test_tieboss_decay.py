@@ -15,13 +15,13 @@ import numpy as np
 import pytest
 import scipy.io
 
-from fricdamp.models.tieboss_analyses import (
+from fricdamp.models.tieboss_wheel.model import build_sector, build_wheel, sector_from_cyclic
+from fricdamp.models.tieboss_wheel.studies import (
     free_decay,
     initial_deformation,
     modal_by_nd,
     reduction_comparison,
 )
-from fricdamp.models.tieboss_wheel import build_sector, build_wheel, sector_from_cyclic
 from fricdamp.structure.io import read_sector
 
 PAPER = {2: 0.012, 6: 0.022}

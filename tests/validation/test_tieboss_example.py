@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fricdamp.models.tieboss_analyses import run_tieboss_case
+from fricdamp.models.tieboss_wheel.studies import run_tieboss_case
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "003_tieboss_wheel.py"
 

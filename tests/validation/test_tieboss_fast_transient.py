@@ -17,8 +17,8 @@ import scipy.sparse as sp
 from fricdamp.contact import Jenkins
 from fricdamp.contact.element3d import Contact3D
 from fricdamp.errors import ModelError
-from fricdamp.models.tieboss_analyses import initial_deformation
-from fricdamp.models.tieboss_wheel import build_sector, build_wheel
+from fricdamp.models.tieboss_wheel.model import build_sector, build_wheel
+from fricdamp.models.tieboss_wheel.studies import initial_deformation
 from fricdamp.solvers.fast_transient import integrate_contact3d, solve_static
 from fricdamp.solvers.timestep import simulate
 from fricdamp.structure.system import ContactElement, HarmonicLoad, MechanicalSystem

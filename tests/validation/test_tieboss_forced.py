@@ -16,12 +16,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from fricdamp.models.tieboss_wheel import build_sector, build_wheel, prestress_normal_force
+from fricdamp.models.tieboss_wheel.model import build_sector, build_wheel, prestress_normal_force
 
 
 @pytest.mark.parametrize("factor", [0.1, 10.0])
 def test_offset_for_prestress(factor):
-    from fricdamp.models.tieboss_gap import offset_for_prestress
+    from fricdamp.models.tieboss_wheel.gap import offset_for_prestress
 
     sector = build_sector(rotation=False)
     p = sector.parameters
@@ -35,7 +35,7 @@ def test_offset_for_prestress(factor):
 
 
 def test_wheel_load_and_expansion_phases():
-    from fricdamp.models.tieboss_forced import (
+    from fricdamp.models.tieboss_wheel.forced import (
         cyclic_problem,
         expand_to_wheel,
         wheel_load,
@@ -60,7 +60,7 @@ def test_wheel_load_and_expansion_phases():
 
 @pytest.mark.slow
 def test_lower_friction_lowers_damping_at_equal_amplitude():
-    from fricdamp.models.tieboss_gap import damping_gap_study
+    from fricdamp.models.tieboss_wheel.gap import damping_gap_study
 
     rows = damping_gap_study(build_sector(rotation=True), variants=["mu = 0.2"])
     base, low = rows[0]["zeta"], rows[1]["zeta"]

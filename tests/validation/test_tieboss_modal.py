@@ -11,19 +11,19 @@ whose 2ND/6ND frequencies differ from them by 1.5 %/0.8 %).
 import numpy as np
 import pytest
 
-from fricdamp.models.tieboss_analyses import (
-    campbell_by_nd,
-    critical_speeds_by_nd,
-    full_wheel_frequencies,
-    modal_by_nd,
-)
-from fricdamp.models.tieboss_wheel import (
+from fricdamp.models.tieboss_wheel.model import (
     TABLE1_FEM_HZ,
     build_sector,
     build_wheel,
     calibrate_normal_stiffness,
     prestress_normal_force,
     table1_targets,
+)
+from fricdamp.models.tieboss_wheel.studies import (
+    campbell_by_nd,
+    critical_speeds_by_nd,
+    full_wheel_frequencies,
+    modal_by_nd,
 )
 from fricdamp.structure.cyclic import full_spectrum
 

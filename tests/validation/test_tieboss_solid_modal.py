@@ -10,12 +10,12 @@ mesh error is ~0.2 %, see the coarse-mesh bound below).
 import numpy as np
 import pytest
 
-from fricdamp.models.tieboss_solid import (
+from fricdamp.models.tieboss_wheel.model import table1_targets
+from fricdamp.models.tieboss_wheel.solid import (
     SolidWheelParameters,
     build_solid_sector,
     first_family_frequencies,
 )
-from fricdamp.models.tieboss_wheel import table1_targets
 
 pytest.importorskip("gmsh")
 pytest.importorskip("skfem")
@@ -78,7 +78,7 @@ def test_coarse_mesh_shift_bound(coarse_frequencies, default_frequencies):
 def test_tuning_the_tip_mass_hits_a_target():
     """tune_solid_parameters on the coarse mesh: the tip-mass density alone (assembled
     parts re-used) moves the 15 ND frequency onto 50.0 Hz."""
-    from fricdamp.models.tieboss_solid import tune_solid_parameters
+    from fricdamp.models.tieboss_wheel.solid import tune_solid_parameters
 
     tuned, report = tune_solid_parameters(COARSE, names=("tipmass_density_kg_m3",),
                                           targets={15: 50.0}, max_evaluations=8)

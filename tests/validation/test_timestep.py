@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from fricdamp.analysis.energy import loop_area
 from fricdamp.contact import Jenkins
 from fricdamp.errors import ConvergenceError, ModelError
+from fricdamp.signals.energy import loop_area
 from fricdamp.solvers import simulate
 from fricdamp.structure import ContactElement, HarmonicLoad, chain
 

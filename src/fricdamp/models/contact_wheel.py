@@ -1,7 +1,7 @@
 """A cyclic wheel of FE sectors joined by contact patches: paper 003's damping strategy at scale.
 
 This is the pipeline of paper 003 (section 3) for a wheel whose sector is a real finite
-element model -- the parametric solid sector of :mod:`fricdamp.models.tieboss_solid` or a
+element model -- the parametric solid sector of :mod:`fricdamp.models.tieboss_wheel.solid` or a
 user's own mesh -- with contact *surfaces* between neighbouring sectors:
 
 1. **Reduction** (:func:`~fricdamp.structure.cyclic_reduction.reduce_sector`): Craig-Bampton
@@ -23,7 +23,7 @@ user's own mesh -- with contact *surfaces* between neighbouring sectors:
    contacts under those forces is released (zero velocity, forces off) and integrated by
    :func:`~fricdamp.solvers.modal_transient.integrate_modal` (Newmark, 003: gamma = 0.5);
    the probe's envelope gives the damping ratio from the logarithmic decrement
-   (:func:`~fricdamp.analysis.decay.decay_damping`). Every node pair's state (open / stick /
+   (:func:`~fricdamp.signals.decay.decay_damping`). Every node pair's state (open / stick /
    slip) is recorded at every saved instant (003 Figs 17-18).
 
 The probe signal is the displacement of blade 0's ``probe`` node along ``probe_direction``
@@ -601,7 +601,7 @@ class ContactWheel:
         progress : bool, optional
             Progress bar.
         """
-        from fricdamp.models.tieboss_analyses import decay_estimates
+        from fricdamp.models.tieboss_wheel.studies import decay_estimates
         from fricdamp.solvers.modal_transient import integrate_modal, transient_compliance
 
         settings = ContactSettings() if settings is None else settings

@@ -40,7 +40,7 @@ import scipy.sparse.linalg as spla
 
 from fricdamp.errors import ConvergenceError, ModelError
 from fricdamp.results import ResultMixin
-from fricdamp.structure.reduction import DENSE_MAX, _factor, eigenpairs
+from fricdamp.structure.eigen import DENSE_MAX, _factor, eigenpairs
 from fricdamp.structure.system import MechanicalSystem
 
 KINDS = ("auto", "undamped", "damped")

@@ -50,7 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from fricdamp.errors import ModelError
-from fricdamp.structure.reduction import _dof_array, eigenpairs
+from fricdamp.structure.eigen import _dof_array, eigenpairs
 from fricdamp.structure.system import MechanicalSystem
 
 _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}

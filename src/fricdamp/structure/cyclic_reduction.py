@@ -102,7 +102,7 @@ import scipy.sparse.linalg as spla
 
 from fricdamp.errors import ModelError
 from fricdamp.structure.cyclic import CyclicSector
-from fricdamp.structure.reduction import DENSE_MAX, _dof_array, eigenpairs
+from fricdamp.structure.eigen import DENSE_MAX, _dof_array, eigenpairs
 
 logger = logging.getLogger(__name__)
 

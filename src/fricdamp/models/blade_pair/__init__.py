@@ -1,0 +1,19 @@
+"""The blade-pair system:
+paper 001, two rotating shrouded blades with a wedge friction element.
+
+Its model is :mod:`fricdamp.models.blade_pair.model` (every name of it is available here,
+so ``from fricdamp.models.blade_pair import ...`` works as before the move); its
+studies, case-file section (``case``) and private helpers are the other modules.
+"""
+
+import importlib as _importlib
+
+
+def __getattr__(name: str):
+    # the model's names, imported on first use (the case-file section does not
+    # need the model to register itself)
+    model = _importlib.import_module(f"{__name__}.model")
+    try:
+        return getattr(model, name)
+    except AttributeError:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
