@@ -139,12 +139,30 @@ def test_release_off_keeps_the_bilateral_contact(caplog):
     assert set(r.energy) >= {"impact_loss"} and np.all(r.energy["impact_loss"] == 0.0)
 
 
-def test_shooting_refuses_unilateral_contacts():
-    """The saltation matrices of impacts are not implemented: shooting's flow says so."""
+def test_flow_monodromy_through_one_bounce():
+    """Shooting's flow through one impact of a ball (h0 = 0.5 m, v0 = 1 m/s up, x' = 0.3,
+    e = 0.7) over t1 = 0.8 s: the monodromy is Phi(t1 - t_i) S Phi(t_i) with the free-flight
+    transitions Phi(s) = [[1, s], [0, 1]] and the impact saltation matrix
+    S = [[-e, 0], [-g (1 + e) / v_i, -e]] (v_i < 0 the arrival velocity) in y, and
+    [[1, t1], [0, 1]] in x; to 1e-9 (DOP853 integrates the parabolas to round-off; the
+    impact map is linear)."""
     from fricdamp.solvers.shooting import flow
 
-    with pytest.raises(ModelError, match="shooting do not handle unilateral contacts"):
-        flow(PointMassOnStop(), (0.0, 1.0), [0, 0.5, 0, 0])
+    e, g, h0, v0, t1 = 0.7, 9.81, 0.5, 1.0, 0.8
+    fl = flow(PointMassOnStop(e=e), (0.0, t1), [0.0, h0, 0.3, v0], rtol=1e-12, atol=1e-14)
+    ti = (v0 + np.sqrt(v0**2 + 2 * g * h0)) / g
+    vi = v0 - g * ti
+    (im,) = fl.result.impacts
+    assert im.time == pytest.approx(ti, rel=1e-12)
+
+    def phi(s):
+        return np.array([[1.0, s], [0.0, 1.0]])
+
+    My = phi(t1 - ti) @ np.array([[-e, 0.0], [-g * (1 + e) / vi, -e]]) @ phi(ti)
+    ref = np.zeros((4, 4))
+    ref[np.ix_([0, 2], [0, 2])] = phi(t1)
+    ref[np.ix_([1, 3], [1, 3])] = My
+    assert np.allclose(fl.monodromy, ref, rtol=0, atol=1e-9)
 
 
 class PointMassInGroove(PointMassOnStop):

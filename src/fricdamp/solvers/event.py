@@ -129,6 +129,40 @@ class PhaseRecord:
     y_end: tuple
 
 
+@dataclass
+class ImpactMap:
+    """The jump ``y+ = g(y-)`` of one impact of a traced run, with its combinatorics fixed
+    (shooting differentiates it, see :func:`impact_map`).
+
+    ``hit``: contacts whose gap closed; ``unilateral`` / ``bilateral``: the rows of the
+    impulsive problem (complementarity / equality); ``restitution``: the coefficients used
+    (0 for plastic); ``zeno``: an impact taken as plastic, or a contact held closed, because
+    it was slower than the Zeno velocity (an accumulation of impacts cut short);
+    ``projection_modes``: the configuration whose constraints the velocities were projected
+    onto after the impact (None: no projection).
+    """
+
+    t: float
+    hit: np.ndarray
+    unilateral: np.ndarray
+    bilateral: np.ndarray
+    restitution: np.ndarray
+    zeno: bool = False
+    projection_modes: np.ndarray | None = None
+
+
+def impact_map(ev: Evaluator, jump: ImpactMap, q, qd):
+    """``(q+, q'+)`` of the impact ``jump`` from the state ``(q, q')`` just before it: the
+    impact position (gaps of ``jump.hit`` closed), the impulse of the fixed active set and
+    the velocity projection that followed (the same steps as the run took)."""
+    q = close_gaps(ev, np.asarray(q, float), jump.hit)
+    qd = impulse(ev, q, np.asarray(qd, float), jump.unilateral, jump.bilateral,
+                 jump.restitution)[0]
+    if jump.projection_modes is not None:
+        q, qd, _ = ev.project(jump.t, q, qd, jump.projection_modes)
+    return q, qd
+
+
 @dataclass(frozen=True, repr=False)
 class EventResult(ResultMixin):
     """Stick-slip time history from :func:`simulate_events`.
@@ -541,6 +575,9 @@ class _Run:
         self.proj_energy = 0.0
         #: optional list of PhaseRecord (shooting's variational equations need the phases)
         self.trace: list | None = None
+        #: traced runs: the impact map of each unilateral event, by the index in ``trace``
+        #: of the phase it ends (shooting's saltation matrices, see ``ImpactMap``)
+        self.jumps: dict[int, ImpactMap] = {}
         #: integrate the work terms (shooting's return maps do without: NaN energies)
         self.with_energy = True
 
@@ -626,10 +663,6 @@ class _Run:
         self.proj_energy += de
 
     def loop(self, max_events):
-        if self.trace is not None and self.uni.any():
-            raise ModelError("periodic orbits by shooting do not handle unilateral contacts yet "
-                             "(no saltation matrices of impacts): integrate with "
-                             "simulate_events, or switch release off")
         zeno = 0
         while True:
             y_pre = (self.q, self.qd) if self.trace is not None else None
@@ -700,6 +733,9 @@ class _Run:
         # and again). Exact phases hold stuck contacts at rest to round-off: nothing to do.
         if self.lf is None:
             self._project(np.where(cand | (must != 0), STICK, self.modes))
+            jump = self.jumps.get(len(self.trace) - 1) if self.trace is not None else None
+            if jump is not None:
+                jump.projection_modes = np.where(cand | (must != 0), STICK, self.modes)
         cand &= must == 0
         self.n_decisions += 1
         new = self.decider.decide_at(self.t, self.q, self.qd, self.modes, cand, must, self.sigma)
@@ -752,6 +788,10 @@ class _Run:
             held |= slow
             qd_plus, lam = impulse(ev, q, qd, uni_set & ~held, (closed & ~self.uni) | held, e)
             gp = WN.T @ qd_plus
+        if self.trace is not None:
+            self.jumps[len(self.trace) - 1] = ImpactMap(
+                self.t, hit.copy(), uni_set & ~held, (closed & ~self.uni) | held, e.copy(),
+                bool((plastic & (self.ev.restitution > 0)).any() or held.any()))
         plastic |= held
         M = np.asarray(s.mass(q), float)
         loss = 0.5 * float(qd @ M @ qd - qd_plus @ M @ qd_plus)

@@ -60,6 +60,13 @@ and velocities are continuous, so ``f+ - f- = [0, Delta qdd]``):
   force dropping from ``+-mu_static |lambda_N|`` to ``+-mu_sliding |lambda_N|``. With
   ``mu_static = mu_sliding`` the field is continuous and ``S = I``.
 
+Unilateral contacts: a lift-off (``h = lambda_N``) is a smooth switch as above; an impact
+(``h = g_N``, the gap of an open contact) also makes the state jump, ``y+ = g(y-)``, and
+``S = G + (f+ - G f-) h_y^T / hdot`` with ``G = dg/dy`` (derived in
+:meth:`_Linearizer.unilateral_saltation`). Grazing lift-offs and impacts, impacts cut short
+by the Zeno velocity and several unilateral events at one instant are refused
+(:class:`~fricdamp.errors.ConvergenceError`).
+
 An event that keeps the configuration (grazing, a sign change of a constrained normal force
 with the friction law written with ``|lambda_N|``) has ``f+ = f-`` and ``S = I``. Several
 functions vanishing at once (a corner of the switching surfaces) have no unique saltation
@@ -68,8 +75,9 @@ matrix: the first one is used and the orbit is flagged (``n_simultaneous``).
 References
 ----------
 Leine & Nijmeijer (2004), Dynamics and Bifurcations of Non-Smooth Mechanical Systems, ch. 2-3
-(saltation matrix, Filippov systems); Aizerman & Gantmakher (1958); den Hartog (1931);
-paper 000 (29)-(46).
+(saltation matrix, Filippov systems), ch. 7 (impacts); Mueller (1995), Calculation of
+Lyapunov exponents for dynamic systems with discontinuities; Aizerman & Gantmakher (1958);
+den Hartog (1931); paper 000 (29)-(46).
 """
 
 from __future__ import annotations
@@ -86,9 +94,10 @@ from scipy.optimize import brentq
 
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
 from fricdamp.results import ResultMixin
-from fricdamp.solvers.event import _Run
+from fricdamp.solvers.event import _Run, impact_map
 from fricdamp.solvers.event_exact import ExactPhase
-from fricdamp.solvers.event_switch import STICK
+from fricdamp.solvers.event_phase import EV_GAP, EV_NORMAL
+from fricdamp.solvers.event_switch import OPEN, STICK
 from fricdamp.solvers.event_system import ConstrainedSystem
 
 log = logging.getLogger(__name__)
@@ -242,6 +251,92 @@ class _Linearizer:
         self.coarse = coarse
         return Phi
 
+    # -------------------------------------------------------------- unilateral events
+    def unilateral_saltation(self, rec, nxt, jump, scales):
+        """Saltation matrix of a lift-off (``jump`` None) or an impact ending ``rec``, and
+        1 if other contacts' events fired at the same instant (else 0).
+
+        Derivation (Leine & Nijmeijer 2004, section 7.2; Mueller 1995). The phase ends where
+        ``h(y) = 0``: the gap ``g_N(q)`` of an open contact (impact) or the normal force
+        ``lambda_N(t, y)`` of a closed one (lift-off). At the event the state jumps,
+        ``y+ = g(y-)`` (the impact map: impulse by Newton's law, then the projection onto
+        the constraints the contacts keep; ``g`` = identity at a lift-off), and the vector
+        field changes from ``f-`` (arriving configuration) to ``f+`` (the next one, at
+        ``y+``). Perturb the state before the event by ``dy``: the perturbed motion reaches
+        the surface at ``t_e + dt`` with ``h_y . (dy + f- dt) = 0`` (to first order; ``h_t``
+        is included in ``hdot``), so ``dt = -h_y . dy / hdot``, ``hdot = h_y . f- + h_t``.
+        Its state there is ``y- + dy + f- dt``, which jumps to
+        ``g(y- + dy + f- dt) = y+ + G (dy + f- dt)``, ``G = dg/dy`` at ``y-``; meanwhile
+        the unperturbed motion has moved on to ``y+ + f+ dt``. Compared at the same time
+        ``t_e + dt``, the perturbation after the event is
+        ``dy+ = G dy + (G f- - f+) dt``, i.e.
+
+            S = G + (f+ - G f-) h_y^T / hdot.
+
+        ``G`` acts only on ``dy - f- (h_y . dy) / hdot``, which is tangent to the surface,
+        so how ``g`` is continued off the surface does not matter. For a lift-off ``G = I``
+        and ``S`` is the standard saltation matrix. For the impact oscillator (stop at
+        ``x = d``, ``h = d - x``, ``g(x, v) = (x, -e v)``) this gives
+        ``S = [[-e, 0], [(a+ + e a-) / v-, -e]]`` (``a-+`` the accelerations before and
+        after, ``v-`` the arrival velocity), ``det S = e^2``.
+
+        ``G`` is the central difference of :func:`~fricdamp.solvers.event.impact_map`
+        (its combinatorics fixed, the state scaled as in :meth:`_fd`): exact to round-off
+        for an impact map linear in the state (constant ``W_N``, constant mass), else
+        O(h^2) with h ~ 6e-6 of the state's size.
+        """
+        n = self.n
+        t = rec.t_end
+        ph = rec.phase
+        fired = np.asarray(rec.hit.fired)
+        kinds, contacts = ph.kinds[fired], ph.contacts[fired]
+        want = EV_GAP if jump is not None else EV_NORMAL
+        sel = [k for k, kk, c in zip(fired, kinds, contacts, strict=True)
+               if kk == want and self.ev.unilateral[c]]
+        i = int(sel[0])
+        c = int(ph.contacts[i])
+        # other contacts' events at the same instant: a corner, the first one is used
+        n_sim = int(len(set(contacts.tolist())) > 1)
+        y = np.concatenate(rec.y_end)
+        f_minus = self.field(t, y, rec.modes, rec.sigma)
+
+        def h(tt, yy):
+            return ph._g(tt, np.concatenate([yy, np.zeros(3)]))[0][i]
+
+        grad = self._fd(lambda yy: np.array([h(t, yy)]), y)[0]
+        dt = 1e-6 * max(rec.t_end - rec.t_start, abs(t) * 1e-3, 1e-12)
+        hdot = (h(t + dt, y + dt * f_minus) - h(t - dt, y - dt * f_minus)) / (2 * dt)
+        y_next = np.concatenate(nxt.y_pre)
+        if jump is None:
+            G = np.eye(2 * n)
+            jumped = y
+            rate_scale = scales["force"] / scales["time"]
+            what = f"lift-off of contact {c}"
+        else:
+            def g_map(yy):
+                return np.concatenate(impact_map(self.ev, jump, yy[:n], yy[n:]))
+
+            jumped = g_map(y)
+            G = self._fd(g_map, y)
+            rate_scale = scales["normal_speed"][c]
+            what = f"impact of contact {c}"
+        # the map must reproduce the state the run continued from (else several events
+        # met at this instant and the single-event saltation matrix does not apply)
+        sc = np.concatenate([np.full(n, scales["q"]), np.full(n, scales["qd"])])
+        if np.max(np.abs(jumped - y_next) / sc) > 1e-8:
+            raise ConvergenceError(
+                f"{what} at t = {t:.10g} s: the state after the event is not the image of "
+                "the state before it under this event alone (several events at one instant); "
+                "no saltation matrix: this orbit cannot be shot")
+        if not (np.isfinite(hdot) and abs(hdot) > 1e-6 * rate_scale):
+            raise ConvergenceError(
+                f"{what} at t = {t:.10g} s is grazing (rate of the event function "
+                f"{hdot:.3g}, scale {rate_scale:.3g}): the saltation matrix is unbounded and "
+                "the Floquet multipliers are not defined; shoot at another frequency or "
+                "restitution")
+        f_plus = self.field(t, np.asarray(nxt.phase.y0[:2 * n], float), nxt.modes, nxt.sigma)
+        return G + np.outer(f_plus - G @ f_minus, grad) / hdot, n_sim
+
     # -------------------------------------------------------------- saltation
     def saltation(self, rec, nxt):
         """Saltation matrix of the event ending ``rec``; ``nxt`` is the next phase of
@@ -315,7 +410,8 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
     Parameters
     ----------
     system : ConstrainedSystem
-        System with stick-slip contacts (e.g. :class:`CoulombSystem`).
+        System with stick-slip contacts (e.g. :class:`CoulombSystem`), optionally with
+        unilateral contacts (lift-off and impacts; DOP853 phases).
     t_span : (float, float)
         Start and end time [s].
     y0 : array_like, shape (2 n_dof,)
@@ -331,6 +427,13 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
     Returns
     -------
     Flow
+
+    Raises
+    ------
+    ConvergenceError
+        The run failed, or (``monodromy=True``) an impact or lift-off of the run is grazing,
+        cut short by the Zeno velocity, one of several unilateral events at one instant,
+        or at the end of the run: no saltation matrix.
     """
     if not isinstance(system, ConstrainedSystem):
         raise ModelError(f"system must be a ConstrainedSystem, got {type(system).__name__}")
@@ -342,7 +445,11 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
         raise ModelError(f"y0 must hold [q, q'] with {2 * n} entries, got {y.shape}")
     if method not in ("auto", "exact", "dop853"):
         raise ModelError(f"method must be 'auto', 'exact' or 'dop853', got {method!r}")
-    lf = system.linear_form() if method in ("auto", "exact") else None
+    uni = np.asarray(system.unilateral_contacts(), dtype=bool)
+    if method == "exact" and uni.any():
+        raise ModelError("method='exact' does not handle unilateral contacts (lift-off and "
+                         "impacts); use method='dop853'")
+    lf = system.linear_form() if method in ("auto", "exact") and not uni.any() else None
     if method == "exact" and lf is None:
         raise ModelError("method='exact' needs a system with a linear form")
     te = np.array([t0, t1]) if t_eval is None else np.asarray(t_eval, float)
@@ -369,6 +476,8 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
     gam = system.tangent_jacobian(y[:n]).T @ y[n:] if n else np.zeros(0)
     start_stuck = np.asarray(trace[0].modes) == STICK
     start_stuck |= np.abs(gam) == 0
+    start_stuck &= np.asarray(trace[0].modes) != OPEN
+    scales = _unilateral_scales(run, res, t1 - t0) if uni.any() else None
     Phi = np.eye(2 * n)
     coarse = np.eye(2 * n)  # the same product with whole Magnus steps (DOP853 phases)
     n_sim = 0
@@ -382,6 +491,29 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
         coarse = (tr if lin.coarse is None else lin.coarse) @ (P @ coarse)
         if rec.hit is not None:
             nxt = trace[positive[idx + 1]] if idx + 1 < len(positive) else None
+            if scales is not None and _unilateral_event(run, rec):
+                if nxt is None:
+                    raise ConvergenceError(
+                        f"a lift-off or impact at t = {rec.t_end:.10g} s ends the run: move "
+                        "the Poincare section (t0) off the event")
+                if nxt is not trace[k + 1]:
+                    raise ConvergenceError(
+                        f"a lift-off or impact at t = {rec.t_end:.10g} s is followed by "
+                        "further events at the same instant (grazing, or an impact that "
+                        "closes the contact in tension): no saltation matrix; this orbit "
+                        "cannot be shot")
+                jump = run.jumps.get(k)
+                if jump is not None and jump.zeno:
+                    raise ConvergenceError(
+                        f"the impact at t = {rec.t_end:.10g} s was slower than the Zeno "
+                        "velocity (an accumulation of impacts, cut short by a plastic one): "
+                        "its saltation matrices are not resolved, the Floquet multipliers "
+                        "would be wrong; shoot at another frequency or restitution")
+                S, sim = lin.unilateral_saltation(rec, nxt, jump, scales)
+                n_sim += sim
+                Phi = S @ Phi
+                coarse = S @ coarse
+                continue
             S, sim = lin.saltation(rec, nxt)
             n_sim += sim
             Phi = S @ Phi
@@ -392,6 +524,27 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
         b = np.sort(np.abs(np.linalg.eigvals(coarse)))
         err = float(np.max(np.abs(a - b)))
     return Flow(y_end, Phi, res, trace, n_sim, err)
+
+
+def _unilateral_event(run, rec) -> bool:
+    """The event ending ``rec`` is a lift-off or an impact of a unilateral contact."""
+    ph = rec.phase
+    fired = np.asarray(rec.hit.fired)
+    kinds, contacts = ph.kinds[fired], ph.contacts[fired]
+    return bool(np.any((kinds == EV_GAP) | ((kinds == EV_NORMAL) & run.uni[contacts])))
+
+
+def _unilateral_scales(run, res, duration):
+    """Scales of the transversality checks of lift-offs and impacts: the largest |q|, |q'|,
+    |lambda_N| of the run, its duration and per contact the largest normal speed scale
+    ``|W_N|^T |q'|``."""
+    q, qd = res.q, res.qd
+    WN = np.abs(np.asarray(run.system.normal_jacobian(q[0]), float))
+    return {"q": max(float(np.abs(q).max()), 1e-300),
+            "qd": max(float(np.abs(qd).max()), 1e-300),
+            "force": max(float(np.abs(res.lambda_N).max()), 1e-300),
+            "time": max(float(duration), 1e-300),
+            "normal_speed": np.maximum(WN.T @ np.abs(qd).max(axis=0), 1e-300)}
 
 
 # =====================================================================================
