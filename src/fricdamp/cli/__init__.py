@@ -1,9 +1,16 @@
-"""The ``fricdamp`` command: one module per group of sub-commands.
+"""The ``fricdamp`` command: one module per sub-command.
 
-* :mod:`fricdamp.cli.app` -- the parser, ``main``; ``run``, ``check``, ``demo``
-* :mod:`fricdamp.cli.studies` -- ``sweep``, ``optimize``
+* :mod:`fricdamp.cli.app` -- the parser and ``main``
+* :mod:`fricdamp.cli.run` -- ``run``
+* :mod:`fricdamp.cli.check` -- ``check``
+* :mod:`fricdamp.cli.demo` -- ``demo``
+* :mod:`fricdamp.cli.sweep` -- ``sweep``
+* :mod:`fricdamp.cli.optimize` -- ``optimize``
 * :mod:`fricdamp.cli.identify` -- ``identify``
 * :mod:`fricdamp.cli.fit` -- ``fit``
+* :mod:`fricdamp.cli._common` -- what they share (exit codes, output, the verdict line);
+  :mod:`fricdamp.cli._studies` -- what ``sweep`` and ``optimize`` share;
+  :mod:`fricdamp.cli.studies` re-exports both study commands (their module before the split)
 
 Every name of :mod:`fricdamp.cli.app` is re-exported here (``fricdamp.cli:main`` is the
 console script).

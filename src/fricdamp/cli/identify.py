@@ -513,7 +513,7 @@ def _verdict(ident, d: dict):
 def _identify(args, spec, geom, proc, sens, table, out: Path) -> int:
     import numpy as np
 
-    from fricdamp.cli.app import say_verdict
+    from fricdamp.cli._common import say_verdict
     from fricdamp.iofiles import save_figure, write_json, write_text
     from fricdamp.signals.identify import identify_from_table
     from fricdamp.verdict import exit_code, verdict_block
