@@ -916,6 +916,7 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
     Returns (y, flow at y, scaled residual, iterations, message)."""
     n = int(system.n_dof)
     t1 = t0 + nmul * period
+    unilateral = bool(np.asarray(system.unilateral_contacts(), dtype=bool).any())
 
     def evaluate(yy):
         fl = flow(system, (t0, t1), yy, **kw)
@@ -950,6 +951,11 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
             try:
                 trial = evaluate(y + lam * step)
             except ConvergenceError:
+                trial = None
+            except ModelError:
+                # a trial state inside a unilateral stop (penetration): shorten the step
+                if not unilateral:
+                    raise
                 trial = None
             if trial is not None and (best is None or trial[2] < best[0][2]):
                 best = (trial, lam)
