@@ -295,7 +295,7 @@ def test_sigterm_removes_temporary_files_and_says_what_was_kept(write_case, tmp_
     path = write_case(case)
     out = tmp_path / "out"
     env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "CI": "1"}
-    p = subprocess.Popen([sys.executable, "-m", "fricdamp.cli.app", "run", str(path), "--out",
+    p = subprocess.Popen([sys.executable, "-m", "fricdamp.cli", "run", str(path), "--out",
                           str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                          env=env)
     for _ in range(600):           # wait until the run has started computing

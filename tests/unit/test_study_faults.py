@@ -120,7 +120,7 @@ def test_lost_scheduler_ends_the_cli_sweep_in_one_line(tmp_path):
                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
         time.sleep(3)
         out = tmp_path / "sw"
-        run = subprocess.Popen([sys.executable, "-m", "fricdamp.cli.app", "sweep", str(case),
+        run = subprocess.Popen([sys.executable, "-m", "fricdamp.cli", "sweep", str(case),
                                 "--grid", "model.springs_N_per_m.1=1e4:2e4:3", "--scheduler",
                                 f"tcp://127.0.0.1:{port}", "--out", str(out)],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
