@@ -103,6 +103,33 @@ def test_factor_with_blocks_matches_superlu():
     assert F_block.log_det()[1] == pytest.approx(F_super.log_det()[1], rel=1e-12)
 
 
+@pytest.mark.parametrize("size", [11, 9])
+def test_rows_of_twelve_in_registers_give_the_bits_of_the_general_loops(monkeypatch, size):
+    # blocks of 9 or 11 unknowns are stored in rows of 12 (padding to whole SIMD vectors),
+    # which the kernel updates with the row held in twelve scalars; padding the rows to 16
+    # instead (_PAD = 8) takes the general loops. The real entries see the same operations
+    # in the same order either way, so the factors are the same to the bit (no tolerance)
+    from fricdamp.solvers import _sparse_lu
+
+    A = _block_matrix(30, size, 7)
+    rng = np.random.default_rng(3)
+    data = A.data * (1.0 + 0.1 * rng.standard_normal(A.nnz))
+    F12 = BlockLU(A, size).factor(data)
+    monkeypatch.setattr(_sparse_lu, "_PAD", 8)
+    sym16 = BlockLU(A, size)
+    assert int(sym16.ld.max()) == 16
+    F16 = sym16.factor(data)
+    assert F12 is not None and F16 is not None and int(F12.sym.ld[0]) == 12
+    d12, s12 = F12.diagonal_and_sign()
+    d16, s16 = F16.diagonal_and_sign()
+    assert np.array_equal(d12, d16) and s12 == s16
+    assert np.array_equal(F12.piv, F16.piv)
+    b = rng.standard_normal(A.shape[0])
+    x = F12.solve(b)
+    B = sp.csc_matrix((data, A.indices, A.indptr), shape=A.shape)
+    assert np.max(np.abs(B @ x - b)) <= 1e-12 * np.max(np.abs(b))
+
+
 def test_block_lu_not_used_where_blocks_are_sparse():
     # a scattered pattern: dense blocks of 11 would store far more than SuperLU's fill
     A = _matrix(331, 0.01, 6)
