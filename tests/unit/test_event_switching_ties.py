@@ -68,3 +68,23 @@ def test_several_configurations_warn(caplog):
         else:
             assert dec.ambiguities == [] and caplog.text == ""
             assert np.all(new == STICK)
+
+
+def test_a_stuck_neighbour_stays_stuck_when_a_slipping_contact_stops():
+    """Same body and load (F = 0.41 N at rest), but contact 1 was stuck before the event and
+    contact 0 was slipping (in -) and has just stopped. The two one-stuck configurations
+    (stick/slip+ and slip+/stick, derived above) are both consistent; 000 (43) lets a stuck
+    contact break away only when its own friction saturation reaches zero, which has not
+    happened to contact 1 (it is a candidate, not a must-slip contact). So contact 1 stays
+    stuck and contact 0 reverses: slip+/stick, decided by the rule (no warning, no recorded
+    ambiguity), not by round-off in the breakaway cascade (which breaks both). The mirror
+    history (contact 0 stuck, contact 1 stopping) gives the mirror choice."""
+    cs = body()
+    lf = cs.linear_form()
+    t = np.arcsin(0.41) / 0.5
+    for before, expect in (((-1, STICK), [1, STICK]), ((STICK, -1), [STICK, 1])):
+        dec = LinearDecider(lf, cs.mu_static, cs.mu_sliding)
+        new = dec.decide_at(t, np.zeros(2), np.zeros(2), np.array(before),
+                            np.array([True, True]), np.zeros(2, dtype=int), np.ones(2))
+        assert new.tolist() == expect
+        assert dec.ambiguities == []

@@ -48,6 +48,14 @@ breaks away; the result is consistent by construction when the normal forces do 
 on the friction forces, and is verified. If the verification fails (strongly coupled normal
 forces), the candidates' modes are enumerated (at most 6 contacts, 3^6 trials), preferring
 the configuration with most contacts stuck; otherwise ConvergenceError.
+
+With ``mu_static > mu_sliding`` several configurations can be consistent (the normal forces
+of the blade damper depend on the friction forces). Then the consistent configurations of 2
+to 4 candidates are enumerated and scored by (contacts stuck, contacts stuck before the event
+that stay stuck): 000 (41)-(46) switch one contact at a time, a stuck contact only when its
+own friction saturation reaches zero, so a neighbour that holds with a positive saturation
+is not made to break away by a contact whose slip velocity vanished (``_select``). Only a
+tie of both keys (a symmetric system) is left to the breakaway cascade, with a warning.
 """
 
 from __future__ import annotations
@@ -480,7 +488,7 @@ def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify,
     if _consistent(new, decided, mu_s, verify) is None:
         if ambiguities is not None and 2 <= cand.size <= 4 and np.any(
                 mu_s[cand] > mu_d[cand]):
-            _check_unique(t, new, cand, decided, mu_s, verify, ambiguities)
+            return _select(t, modes, new, cand, decided, mu_s, verify, ambiguities)
         return new
     # the cascade failed (normal forces coupled to the friction forces, or must-slip
     # contacts reversed by the others): enumerate the candidates' modes, most stick first
@@ -502,27 +510,50 @@ def decide_modes(t, modes, candidates, must_slip, mu_s, mu_d, affine, verify,
         "depend strongly on the friction forces); check mu and the contact geometry")
 
 
-def _check_unique(t, new, cand, decided, mu_s, verify, ambiguities):
-    """Warn when several consistent configurations have the most stuck contacts."""
-    best, alts = -1, []
+def _select(t, modes, new, cand, decided, mu_s, verify, ambiguities):
+    """The configuration taken when ``mu_static > mu_sliding`` makes several consistent.
+
+    Every consistent assignment of the candidates' modes is scored by (number of stuck
+    candidates, number of candidates stuck before the event that stay stuck) and the
+    unique best is taken. The first key is the rule "stick whenever consistent". The second
+    is 000 (43): a stuck contact leaves stick only when its own friction saturation
+    ``mu_S |F_N| - |F_c|`` reaches zero (its event then makes it a must-slip contact, not a
+    candidate), so a contact whose slip velocity vanished does not make a neighbour that was
+    holding with a positive saturation break away when a configuration with the neighbour
+    still stuck is consistent. Without the second key the choice was left to round-off in
+    the breakaway cascade: at the blade damper's resonance nearly every switch had the two
+    one-stuck configurations "stick/slip" and "slip/stick", taken at random, and the
+    response never settled on a periodic orbit.
+
+    When several configurations share the best score (e.g. two contacts stuck before the
+    event, both at zero saturation reserve in a symmetric system) the breakaway cascade's
+    result ``new`` is kept, a warning is logged and ``(t, [modes, ...])`` appended to
+    ``ambiguities``: the stick-slip solution is not unique there.
+    """
+    was_stuck = np.asarray(modes)[cand] == STICK
+    best, alts = (-1, -1), []
     for combo in itertools.product((STICK, SLIP_POS, SLIP_NEG), repeat=cand.size):
-        n_stick = combo.count(STICK)
-        if n_stick < best:
+        stuck = np.asarray(combo) == STICK
+        score = (int(stuck.sum()), int(np.sum(stuck & was_stuck)))
+        if score < best:
             continue
         trial = new.copy()
         trial[cand] = combo
         if _consistent(trial, decided, mu_s, verify) is None:
-            if n_stick > best:
-                best, alts = n_stick, []
+            if score > best:
+                best, alts = score, []
             alts.append(trial)
+    if len(alts) == 1:
+        return alts[0]
     if len(alts) > 1:
         names = ["/".join(MODE_NAMES[int(m)] for m in a[cand]) for a in alts]
         log.warning("switch at t = %.17g s has %d consistent configurations of contacts %s "
                     "with %d stuck (%s); %s was taken: the stick-slip solution is not unique "
                     "here (mu_static > mu_sliding), and round-off may decide it", t, len(alts),
-                    cand.tolist(), best, ", ".join(names),
+                    cand.tolist(), best[0], ", ".join(names),
                     "/".join(MODE_NAMES[int(m)] for m in new[cand]))
         ambiguities.append((float(t), [a.copy() for a in alts]))
+    return new
 
 
 def _consistent(new, decided, mu_s, verify):
