@@ -103,31 +103,34 @@ def test_factor_with_blocks_matches_superlu():
     assert F_block.log_det()[1] == pytest.approx(F_super.log_det()[1], rel=1e-12)
 
 
-@pytest.mark.parametrize("size", [11, 9])
+@pytest.mark.parametrize("size", [11, 9, 7])
 def test_rows_of_twelve_in_registers_give_the_bits_of_the_general_loops(monkeypatch, size):
-    # blocks of 9 or 11 unknowns are stored in rows of 12 (padding to whole SIMD vectors),
-    # which the kernel updates with the row held in twelve scalars; padding the rows to 16
-    # instead (_PAD = 8) takes the general loops. The real entries see the same operations
-    # in the same order either way, so the factors are the same to the bit (no tolerance)
+    # stored rows of 12 (blocks of 9-12 unknowns, _PAD = 4) are updated with the row held
+    # in twelve scalars; rows padded to 16 or 20 (or blocks of 7: rows of 8) take the
+    # general loops. Every real entry sees the same operations in the same order, so the
+    # factors are the same to the bit (no tolerance); the solve checks the factors
     from fricdamp.solvers import _sparse_lu
 
     A = _block_matrix(30, size, 7)
     rng = np.random.default_rng(3)
     data = A.data * (1.0 + 0.1 * rng.standard_normal(A.nnz))
-    F12 = BlockLU(A, size).factor(data)
-    monkeypatch.setattr(_sparse_lu, "_PAD", 8)
-    sym16 = BlockLU(A, size)
-    assert int(sym16.ld.max()) == 16
-    F16 = sym16.factor(data)
-    assert F12 is not None and F16 is not None and int(F12.sym.ld[0]) == 12
-    d12, s12 = F12.diagonal_and_sign()
-    d16, s16 = F16.diagonal_and_sign()
-    assert np.array_equal(d12, d16) and s12 == s16
-    assert np.array_equal(F12.piv, F16.piv)
+    factors = []
+    for pad in (4, 8, 20):
+        monkeypatch.setattr(_sparse_lu, "_PAD", pad)
+        F = BlockLU(A, size).factor(data)
+        assert F is not None
+        factors.append(F)
+    assert [int(F.sym.ld[0]) for F in factors] == ([12, 16, 20] if size > 8 else [8, 8, 20])
+    d0, s0 = factors[0].diagonal_and_sign()
     b = rng.standard_normal(A.shape[0])
-    x = F12.solve(b)
+    x0 = factors[0].solve(b)
+    for F in factors[1:]:
+        d, sign = F.diagonal_and_sign()
+        assert np.array_equal(d, d0) and sign == s0
+        assert np.array_equal(F.piv, factors[0].piv)
+        assert np.array_equal(F.solve(b), x0)
     B = sp.csc_matrix((data, A.indices, A.indptr), shape=A.shape)
-    assert np.max(np.abs(B @ x - b)) <= 1e-12 * np.max(np.abs(b))
+    assert np.max(np.abs(B @ x0 - b)) <= 1e-12 * np.max(np.abs(b))
 
 
 def test_block_lu_not_used_where_blocks_are_sparse():
