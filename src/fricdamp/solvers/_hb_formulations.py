@@ -31,16 +31,24 @@ DENSE_LIMIT = 200
 
 # ============================================================================ set-up
 @njit(cache=True, nogil=True)
-def _jacobian_values(out, base0, base1, base2, c1, c2, dest, coef, src, jflat, scale):
-    """``out = scale * (base0 + c1 base1 + c2 base2 + scatter(coef * jflat[src] -> dest))``.
+def _jacobian_values(out, pos, base0, base1, base2, c1, c2, dest, coef, src, jflat,
+                     scale):  # pragma: no cover - compiled
+    """``out = scale * (lin + scatter(coef * jflat[src] -> dest))``, ``lin[pos] = base0 +
+    c1 base1 + c2 base2`` and zero elsewhere.
 
     The values of the Jacobian in its fixed pattern: the linear part ``K + Omega^2 M E_M +
-    Omega D E_D`` and the contact blocks ``(P^T x I) J_nl (P x I)`` scattered by precomputed
-    (destination, source, coefficient) triples, sorted by destination. One pass, no
-    temporaries (replaces a gather, a product and ``np.bincount`` over all entries).
+    Omega D E_D`` at its own entries ``pos`` (a sixth of the pattern of the ring of Jenkins
+    contacts, H = 5: the contact blocks are dense in the harmonics, the linear part couples
+    a harmonic with itself) and the contact blocks ``(P^T x I) J_nl (P x I)`` scattered by
+    precomputed (destination, source, coefficient) triples, sorted by destination. No
+    temporaries (replaces a gather, a product and ``np.bincount`` over all entries). The
+    entries outside ``pos`` would be ``0 + c1 0 + c2 0 = 0``: the same bits as a pass of
+    the linear formula over the whole pattern, which read three arrays of its size.
     """
     for i in range(out.size):
-        out[i] = base0[i] + c1 * base1[i] + c2 * base2[i]
+        out[i] = 0.0
+    for i in range(pos.size):
+        out[pos[i]] = base0[i] + c1 * base1[i] + c2 * base2[i]
     for i in range(dest.size):
         out[dest[i]] += coef[i] * jflat[src[i]]
     for i in range(out.size):
@@ -346,8 +354,12 @@ class _Full:
         self.nl_coef = np.concatenate(nl_coef) if nl_coef else np.zeros(0)
         # the compiled scatter walks the destinations in order (cache-friendly writes)
         order = np.argsort(self.inv_nl, kind="stable")
-        self.nl_dest = np.ascontiguousarray(self.inv_nl[order], dtype=np.int64)
-        self.nl_src_sorted = np.ascontiguousarray(self.nl_src[order], dtype=np.int64)
+        # 32-bit indices where they fit: the scatter streams (destination, source,
+        # coefficient) triples, ~40 % fewer bytes (ring of 480 Jenkins contacts: 2.3e5)
+        itype = np.int32 if max(self.nnz, self.nl_src.size and int(self.nl_src.max()) + 1
+                                ) < 2**31 else np.int64
+        self.nl_dest = np.ascontiguousarray(self.inv_nl[order], dtype=itype)
+        self.nl_src_sorted = np.ascontiguousarray(self.nl_src[order], dtype=itype)
         self.nl_coef_sorted = np.ascontiguousarray(self.nl_coef[order], dtype=float)
         if dense is None:
             dense = Nn <= DENSE_LIMIT or self.nnz > 0.3 * Nn * Nn
@@ -362,6 +374,9 @@ class _Full:
                                       ).astype(np.int64)
         self.lin_col = np.ascontiguousarray(col[order], dtype=np.int64)
         self.lin_val = [np.ascontiguousarray(self.base[t][pos][order]) for t in range(3)]
+        # the same entries in the order of the pattern, for the Jacobian values
+        self.lin_entries = (pos.astype(np.int64),
+                            *(np.ascontiguousarray(self.base[t][pos]) for t in range(3)))
         self.P_csr = _csr_arrays(s.P)
         self.PT_csr = _csr_arrays(s.PT)
         self.F_static = _static_only(s.F_ex).ravel()
@@ -479,7 +494,7 @@ class _Full:
             else:
                 Jflat = np.zeros(1)
             dest = self.nl_dest if res is not None else self.nl_dest[:0]
-            _jacobian_values(data, self.base[0], self.base[1], self.base[2], omega**2, omega,
+            _jacobian_values(data, *self.lin_entries, omega**2, omega,
                              dest, self.nl_coef_sorted, self.nl_src_sorted, Jflat,
                              scale * x_scale)
             if self.nma:
@@ -524,7 +539,7 @@ class _Full:
                 return self._evaluate_jenkins(js, x, omega, scale, x_scale, load_scale)[1]
             data = np.empty(self.nnz)
             Jflat = Jb.ravel() if self.nl_src.size else np.zeros(1)
-            _jacobian_values(data, self.base[0], self.base[1], self.base[2], omega**2, omega,
+            _jacobian_values(data, *self.lin_entries, omega**2, omega,
                              self.nl_dest, self.nl_coef_sorted, self.nl_src_sorted, Jflat,
                              scale * x_scale)
             return self._jacobian_from(data)
