@@ -131,6 +131,16 @@ def test_rows_of_twelve_in_registers_give_the_bits_of_the_general_loops(monkeypa
         assert np.array_equal(F.solve(b), x0)
     B = sp.csc_matrix((data, A.indices, A.indptr), shape=A.shape)
     assert np.max(np.abs(B @ x0 - b)) <= 1e-12 * np.max(np.abs(b))
+    # two right-hand sides in one sweep (rows of 12 against the block of the right-hand
+    # side held in registers, sums reordered): the same solutions to rounding (1e-13:
+    # a few hundred eps of these diagonally dominant matrices)
+    e = np.zeros(A.shape[0])
+    e[-1] = 1.0
+    x_ref = np.linalg.solve(B.toarray(), np.stack([b, e], axis=1))
+    for F in factors:
+        x, y = F.solve_pair(b, e)
+        assert np.max(np.abs(x - x_ref[:, 0])) <= 1e-13 * np.max(np.abs(x_ref[:, 0]))
+        assert np.max(np.abs(y - x_ref[:, 1])) <= 1e-13 * np.max(np.abs(x_ref[:, 1]))
 
 
 def test_block_lu_not_used_where_blocks_are_sparse():

@@ -403,6 +403,25 @@ def _block_solve(b, out, sperm, nB, bsz, ld, bnew, Lp, Li, Up, Ui, Loff, Uoff, D
         out[sperm[i]] = z[i]
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _load12(z, s0, n):  # pragma: no cover - compiled
+    """``z[s0: s0 + n]`` (n <= 12) as twelve scalars, zeros after the n-th."""
+    return (z[s0] if n > 0 else 0.0, z[s0 + 1] if n > 1 else 0.0,
+            z[s0 + 2] if n > 2 else 0.0, z[s0 + 3] if n > 3 else 0.0,
+            z[s0 + 4] if n > 4 else 0.0, z[s0 + 5] if n > 5 else 0.0,
+            z[s0 + 6] if n > 6 else 0.0, z[s0 + 7] if n > 7 else 0.0,
+            z[s0 + 8] if n > 8 else 0.0, z[s0 + 9] if n > 9 else 0.0,
+            z[s0 + 10] if n > 10 else 0.0, z[s0 + 11] if n > 11 else 0.0)
+
+
+@njit(cache=True, nogil=True, inline="always", fastmath={"reassoc", "contract"})
+def _dot12(S, o, v):  # pragma: no cover - compiled
+    """``S[o: o + 12] . v`` (a stored row of 12, its padding zero)."""
+    return (S[o] * v[0] + S[o + 1] * v[1] + S[o + 2] * v[2] + S[o + 3] * v[3]
+            + S[o + 4] * v[4] + S[o + 5] * v[5] + S[o + 6] * v[6] + S[o + 7] * v[7]
+            + S[o + 8] * v[8] + S[o + 9] * v[9] + S[o + 10] * v[10] + S[o + 11] * v[11])
+
+
 @njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
 def _block_solve2(b, c, out_b, out_c, sperm, nB, bsz, ld, bnew, Lp, Li, Up, Ui, Loff, Uoff,
                   Doff, S, piv, pstart, z, w):  # pragma: no cover - compiled
@@ -435,6 +454,18 @@ def _block_solve2(b, c, out_b, out_c, sperm, nB, bsz, ld, bnew, Lp, Li, Up, Ui, 
                 a = S[d0 + r * lK + cc]
                 z[s0 + r] -= a * zc
                 w[s0 + r] -= a * wc
+        if lK == 12:
+            # rows of 12 (H = 5) against the block of z held in registers
+            zK = _load12(z, s0, nK)
+            wK = _load12(w, s0, nK)
+            for q in range(Lp[K], Lp[K + 1]):
+                I = Li[q]
+                l0 = Loff[q]
+                i0 = bnew[I]
+                for r in range(bsz[I]):
+                    z[i0 + r] -= _dot12(S, l0 + r * 12, zK)
+                    w[i0 + r] -= _dot12(S, l0 + r * 12, wK)
+            continue
         for q in range(Lp[K], Lp[K + 1]):
             I = Li[q]
             nI = bsz[I]
@@ -464,6 +495,17 @@ def _block_solve2(b, c, out_b, out_c, sperm, nB, bsz, ld, bnew, Lp, Li, Up, Ui, 
             dg = S[d0 + cr * lJ + cr]
             z[s0 + cr] = acc / dg
             w[s0 + cr] = acw / dg
+        if lJ == 12:
+            zJ = _load12(z, s0, nJ)
+            wJ = _load12(w, s0, nJ)
+            for p in range(Up[J], Up[J + 1]):
+                K = Ui[p]
+                x0 = Uoff[p]
+                k0 = bnew[K]
+                for r in range(bsz[K]):
+                    z[k0 + r] -= _dot12(S, x0 + r * 12, zJ)
+                    w[k0 + r] -= _dot12(S, x0 + r * 12, wJ)
+            continue
         for p in range(Up[J], Up[J + 1]):
             K = Ui[p]
             nK = bsz[K]
