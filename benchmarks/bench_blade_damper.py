@@ -1,23 +1,30 @@
-"""Blade damper (paper 000): CPU per forcing period, compiled phases vs the path before.
+"""Blade damper (paper 000): CPU per forcing period, compiled event loop vs the paths before.
 
 The stick-slip response is integrated for ``periods`` forcing periods from the same state
 (reached after 4 periods from rest) by the event-driven solver (DOP853 phases, rtol 1e-8,
-200 samples per period) in this run, twice per point:
+200 samples per period) in this run, three times per point:
 
 * **before**: ``BladeDamperSystem(params, compiled_phases=False)`` -- SciPy's DOP853 calling
   the compiled right-hand side, event roots by ``scipy.optimize.brentq`` through Python, the
   generic projection onto the constraints (the code as of 2026-11-27);
-* **after**: ``BladeDamperSystem(params)`` -- whole DOP853 steps (SciPy's step-size control
-  and dense output), the event screening, the root refinement (Brent) and the projection in
-  compiled code (:mod:`fricdamp.models.blade_damper._compiled`); only the switching decision
-  and the bookkeeping per event stay in Python.
+* **middle**: ``BladeDamperSystem(params, compiled_loop=False)`` -- whole DOP853 steps
+  (SciPy's step-size control and dense output), the event screening, the root refinement
+  (Brent) and the projection in compiled code (:mod:`fricdamp.models.blade_damper.
+  _compiled`); the switching decision and the bookkeeping per event in Python (the path of
+  2026-11-28);
+* **after**: ``BladeDamperSystem(params)`` -- the compiled event loop
+  (:mod:`fricdamp.models.blade_damper._fastloop`): phases, switching decisions and samples
+  in one kernel call, Python only for the switches the kernel leaves to it (an ambiguous
+  switch, a singular system, chattering).
 
 Points: **away from resonance** 58 Hz, F_e = 8 N, gamma = 50 deg (the case's time response,
 4-6 switches per period) and **at the friction-damped resonance** 51 Hz, F_e = 8 N,
-gamma = 65 deg (the 1 g optimum of the design study, ~16 switches per period). Both paths
+gamma = 65 deg (the 1 g optimum of the design study, ~16 switches per period). The paths
 must give the same response (same switching sequence, final state within 1e-6 of the
-motion's range) before a time is reported. Times are CPU (``time.process_time``), best of
-``repeats``, one BLAS thread, compilation excluded (a warm-up run first). Target:
+motion's range; after and middle within 1e-8, the tolerance of
+``tests/unit/test_blade_damper_fastloop.py``) before a time is reported. Times are CPU
+(``time.process_time``), best of ``repeats``, one BLAS thread, compilation excluded (a
+warm-up run first). Target:
 **<= 5 ms CPU per forcing period** (issue 14).
 
 ``--design`` also times one design of the design study (stepped sine on 5 frequencies + the
@@ -105,6 +112,7 @@ def run(repeats: int = 3, quick: bool = False, periods: float = 10.0, design: bo
             p = BladeDamperParameters(excitation_amplitude=8.0, excitation_frequency=f
                                       ).with_(gamma_deg=g)
             systems = {"before": BladeDamperSystem(p, compiled_phases=False),
+                       "middle": BladeDamperSystem(p, compiled_loop=False),
                        "after": BladeDamperSystem(p)}
             y0 = np.concatenate([systems["after"].static_equilibrium().q, np.zeros(7)])
             r = time_response(systems["before"], 4.0, y0=y0).result
@@ -117,19 +125,24 @@ def run(repeats: int = 3, quick: bool = False, periods: float = 10.0, design: bo
                     s, periods, y0=y0, t_start=t0), repeats)
                 res[key] = tr.result
                 details[f"{name}_ms_per_period_{key}"] = 1e3 * cpu / periods
-            a, b = res["after"], res["before"]
-            same = ([(e.contact, e.to_mode) for e in a.events]
-                    == [(e.contact, e.to_mode) for e in b.events])
+            a, b, mid = res["after"], res["before"], res["middle"]
+            same = all([(e.contact, e.to_mode) for e in a.events]
+                       == [(e.contact, e.to_mode) for e in x.events] for x in (b, mid))
             agree = float(np.max(np.abs(a.q[-1] - b.q[-1]) / (np.ptp(b.q, axis=0) + 1e-300)))
-            same = same and agree < 1e-6
+            agree_mid = float(np.max(np.abs(a.q[-1] - mid.q[-1])
+                                     / (np.ptp(mid.q, axis=0) + 1e-300)))
+            same = same and agree < 1e-6 and agree_mid < 1e-8
+            details[f"{name}_final_state_agreement_middle"] = agree_mid
             ok = ok and same
             after = details[f"{name}_ms_per_period_after"]
             before = details[f"{name}_ms_per_period_before"]
+            middle = details[f"{name}_ms_per_period_middle"]
             details[f"{name}_events_per_period"] = a.n_events / periods
             details[f"{name}_final_state_agreement"] = agree
             details[f"{name}_ratio"] = before / after
             figs.append(f"{name} ({f:g} Hz, {g:g} deg, {a.n_events / periods:.1f} switches/"
                         f"period): {after:.1f} ms (before {before:.1f} ms, "
+                        f"compiled phases with the Python loop {middle:.1f} ms, "
                         f"{before / after:.1f}x)" + ("" if same else
                                                       f" RESULTS DIFFER ({agree:.1e})"))
         if design:

@@ -580,6 +580,8 @@ class _Run:
         self.jumps: dict[int, ImpactMap] = {}
         #: integrate the work terms (shooting's return maps do without: NaN energies)
         self.with_energy = True
+        #: phases taken by the system's compiled event loop (see ``_compiled_loop``)
+        self.fast_phases = 0
 
     # ------------------------------------------------------------ start and decisions
     def start(self, q, qd):
@@ -662,9 +664,31 @@ class _Run:
         self.q, self.qd, de = self.decider.project(self.t, self.q, self.qd, modes)
         self.proj_energy += de
 
+    def _compiled_loop(self):
+        """The system's compiled event loop (``compiled_kernels().event_loop(run,
+        max_events) -> finished``), when it can take this run: DOP853 phases with the
+        compiled kernels, bilateral contacts with friction, no trace (shooting needs the
+        phases). It takes phases and switches until the end or a phase it leaves to this
+        loop (anything it would not do exactly as this loop does), and hands over at the
+        start of that phase."""
+        if self.lf is not None or self.trace is not None or self.uni.any() \
+                or self.ev.frictionless.any():
+            return None
+        ck = self.ev._fused
+        if ck is None or not getattr(ck, "compiled_loop", False):
+            return None
+        return getattr(ck, "event_loop", None)
+
     def loop(self, max_events):
         zeno = 0
+        fast = self._compiled_loop()
         while True:
+            if fast is not None:
+                done = self.fast_phases
+                if fast(self, max_events):
+                    return 0, "finished"
+                if self.fast_phases > done:
+                    zeno = 0
             y_pre = (self.q, self.qd) if self.trace is not None else None
             self._project(self.modes)
             phase = self._phase()

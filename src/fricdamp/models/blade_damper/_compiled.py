@@ -30,6 +30,11 @@ numba kernels:
   differs by round-off and the responses agree to the integration accuracy
   (``tests/unit/test_blade_damper_fused.py``).
 
+* the event loop (generated with the rest, ``event_loop``, source and driver in
+  :mod:`fricdamp.models.blade_damper._fastloop`): phases, switching decisions and samples
+  of many events in one call, with the kernels above; it leaves to the Python loop of
+  :mod:`fricdamp.solvers.event` every switch it would not take exactly as that loop does.
+
 A configuration whose constraint matrix is (numerically) singular returns status 1 (4 from
 ``phase_run``) and the caller falls back to the generic path (minimum-norm multipliers).
 
@@ -930,7 +935,10 @@ def kinematics_source(contour: str) -> str:
             "q1", "q3", "q5", "xS", "yS", "u5", "gamma", "p1", "p2"}:
         raise RuntimeError("the sympy symbols of the kinematics changed their names")
     body = "\n".join(lines)
-    return head + body + "\n" + _FUSED.format(g=_GAMMA, p1=_P1, p2=_P2) + _PHASE_SRC
+    from fricdamp.models.blade_damper._fastloop import LOOP_SRC
+
+    return (head + body + "\n" + _FUSED.format(g=_GAMMA, p1=_P1, p2=_P2) + _PHASE_SRC
+            + LOOP_SRC)
 
 
 @functools.cache
@@ -970,6 +978,10 @@ class BladeDamperKernels:
         self.n = 7
         #: NumericalPhase takes whole steps through :meth:`phase_run`
         self.fused_phases = bool(getattr(system, "compiled_phases", True))
+        #: the compiled event loop (phases and switches) offered to the event solver
+        self.compiled_loop = self.fused_phases and bool(getattr(system, "compiled_loop",
+                                                                 True))
+        self._fastloop = None
 
     def kinematics(self, q, u5=0.0):
         """``(gap (2,), W_N (7, 2), W_T (7, 2), wbar_N (2,), wbar_T (2,))`` at q, q5' = u5."""
@@ -1043,6 +1055,17 @@ class BladeDamperKernels:
         Y = np.empty((17, ts.size))
         self.mod.dense_many(TA, TB, YOLD, FF, idx, ts, Y)
         return Y
+
+    def event_loop(self, run, max_events):
+        """Phases and switches of the run ``run`` (a :class:`fricdamp.solvers.event._Run`)
+        in the compiled event loop (:mod:`fricdamp.models.blade_damper._fastloop`) until
+        its end or a phase the loop leaves to Python; returns True when the run is
+        finished."""
+        if self._fastloop is None:
+            from fricdamp.models.blade_damper._fastloop import FastLoop
+
+            self._fastloop = FastLoop(self)
+        return self._fastloop.advance(run, max_events)
 
     def events_many(self, ts, Y, modes, sigma, kinds, contacts, lim, sgn, vel):
         G = np.empty((kinds.size, ts.size))

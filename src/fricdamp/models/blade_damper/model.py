@@ -260,6 +260,12 @@ class BladeDamperSystem(ConstrainedSystem):
         Newton's restitution coefficient ``e`` in [0, 1] of the damper-platform impacts
         (with ``release``; default 0: plastic impacts, the damper stays on the platform it
         hits when the contact force is compressive).
+    compiled_loop : bool
+        With ``compiled_phases``: the event solver takes whole runs of phases and switches
+        in the compiled event loop (:mod:`fricdamp.models.blade_damper._fastloop`; default),
+        leaving to its Python loop only what the kernel would not do identically (an
+        ambiguous switch, a singular constraint system, chattering, ...). False: the Python
+        loop for every event (the reference for the compiled loop).
 
     Examples
     --------
@@ -274,6 +280,7 @@ class BladeDamperSystem(ConstrainedSystem):
     compiled_phases: bool = True
     release: bool = False
     restitution: float = 0.0
+    compiled_loop: bool = True
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     n_dof = 7

@@ -1,0 +1,154 @@
+"""The compiled event loop of the blade damper against the Python event loop.
+
+``BladeDamperSystem(params)`` (default) runs the phases *and* the switches in one compiled
+kernel (:mod:`fricdamp.models.blade_damper._fastloop`); ``compiled_loop=False`` takes the
+same compiled phases through the Python loop of :func:`fricdamp.solvers.event.
+simulate_events` (the reference). The kernel calls the same compiled phase kernels
+(``phase_run``, ``refine_root``, ``project``) with the same inputs and re-codes the
+switching decision (``decide_modes``) with the same operations, so the two paths agree to
+round-off: the stated tolerances are switching times within 1e-9 s, the final state within
+1e-8 of each coordinate's range of motion, samples within 1e-8 of the range, contact forces
+within 1e-8 of their largest magnitude and energies within 1e-8 of the input work. They
+leave room for the last bits of the decision's small products (loops here, BLAS there);
+measured (2026-11-29): identical times, states and work, kinetic energy to 2e-16 (the
+kinetic energy of a block of samples is summed at once).
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import pytest
+
+from fricdamp.models import BladeDamperParameters, BladeDamperSystem
+from fricdamp.models.blade_damper._fastloop import FastLoop
+from fricdamp.models.blade_damper.studies import time_response
+from fricdamp.solvers.event import simulate_events
+
+
+def _systems(f_hz, gamma_deg):
+    p = BladeDamperParameters(excitation_amplitude=8.0, excitation_frequency=f_hz
+                              ).with_(gamma_deg=gamma_deg)
+    return BladeDamperSystem(p), BladeDamperSystem(p, compiled_loop=False)
+
+
+def _start(sys, f_hz):
+    """A state on the stick-slip motion: 4 periods from the static equilibrium at rest."""
+    y0 = np.concatenate([sys.static_equilibrium().q, np.zeros(7)])
+    r = time_response(sys, 4.0, y0=y0).result
+    return np.concatenate([r.q[-1], r.qd[-1]]), 4.0 / f_hz
+
+
+def _assert_same(a, b):
+    assert a.success and b.success
+    assert a.n_events == b.n_events
+    assert [(e.contact, e.kind, e.from_mode, e.to_mode) for e in a.events] == [
+        (e.contact, e.kind, e.from_mode, e.to_mode) for e in b.events]
+    ta, tb = np.array([e.time for e in a.events]), np.array([e.time for e in b.events])
+    assert np.all(np.abs(ta - tb) <= 1e-9)
+    rq = np.ptp(b.q, axis=0) + 1e-300
+    assert np.all(np.abs(a.q[-1] - b.q[-1]) <= 1e-8 * rq)
+    assert np.all(np.abs(a.qd[-1] - b.qd[-1]) <= 1e-8 * (np.ptp(b.qd, axis=0) + 1e-300))
+    assert a.t.shape == b.t.shape
+    assert np.all(np.abs(a.t - b.t) <= 1e-9)
+    assert np.all(np.abs(a.q - b.q) <= 1e-8 * rq)
+    assert np.array_equal(a.modes, b.modes)
+    for lam in ("lambda_N", "lambda_T"):
+        x, y = getattr(a, lam), getattr(b, lam)
+        assert np.all(np.abs(x - y) <= 1e-8 * np.max(np.abs(y)))
+    w = np.max(np.abs(b.energy["input_work"]))
+    for k, v in b.energy.items():
+        assert np.all(np.abs(a.energy[k] - v) <= 1e-8 * w), k
+    assert (a.n_phases, a.n_decisions, a.n_configurations) == (
+        b.n_phases, b.n_decisions, b.n_configurations)
+    assert a.n_rhs == b.n_rhs
+    assert a.projection_energy == pytest.approx(b.projection_energy, rel=1e-6, abs=1e-20)
+
+
+class _Records(logging.Handler):
+    def __init__(self):
+        super().__init__(logging.WARNING)
+        self.messages = []
+
+    def emit(self, record):
+        self.messages.append(record.getMessage())
+
+
+def _warnings(monkeypatch, fn):
+    """``fn()`` and the ambiguity warnings of the switching decision it logged (a handler on
+    the module's logger itself: other tests may configure the logging tree)."""
+    logger = logging.getLogger("fricdamp.solvers.event_switch")
+    monkeypatch.setattr(logger, "disabled", False)
+    monkeypatch.setattr(logger, "level", logging.WARNING)
+    logger.manager._clear_cache()
+    rec = _Records()
+    logger.addHandler(rec)
+    try:
+        out = fn()
+    finally:
+        logger.removeHandler(rec)
+    return out, [m for m in rec.messages if "consistent configurations" in m]
+
+
+@pytest.mark.parametrize("f_hz, gamma_deg", [(58.0, 50.0), (51.0, 65.0)])
+def test_compiled_loop_equals_python_loop(f_hz, gamma_deg, monkeypatch):
+    """Away from resonance (58 Hz, 50 deg) and at the resonance (51 Hz, 65 deg). Near
+    t = 0.2228 s the resonance run has a switch of both contacts whose configurations with
+    one stuck contact may both be consistent (mu_static > mu_sliding): whether round-off
+    makes it ambiguous depends on the last bits of the state, so the test asks only that
+    both paths log the same warnings and record the same ambiguities, and that the kernel
+    left each ambiguous switch to the Python loop (reason 16)."""
+    fast, ref = _systems(f_hz, gamma_deg)
+    y0, t0 = _start(ref, f_hz)
+    a, warned_fast = _warnings(monkeypatch, lambda: time_response(fast, 10.0, y0=y0,
+                                                                   t_start=t0).result)
+    b, warned_ref = _warnings(monkeypatch, lambda: time_response(ref, 10.0, y0=y0,
+                                                                  t_start=t0).result)
+    _assert_same(a, b)
+    assert a.n_events >= 10 * 4
+    assert len(warned_fast) == len(warned_ref)
+    assert a.meta["ambiguous_switches"] == b.meta["ambiguous_switches"]
+    if warned_ref:
+        # an ambiguous switch was met: the kernel left it to the Python loop
+        assert fast.compiled_kernels()._fastloop.stops.get(16, 0) >= len(warned_ref)
+    # nearly all phases ran in the kernel
+    assert fast.compiled_kernels()._fastloop is not None
+
+
+def test_hand_over_in_the_middle(monkeypatch):
+    """Forced hand-overs: the kernel is told to stop every 3 events (its ``max_events``),
+    the Python loop takes the next phase and switch and hands back; the result is the
+    Python loop's (same tolerances)."""
+    fast, ref = _systems(51.0, 65.0)
+    y0, t0 = _start(ref, 51.0)
+    orig = FastLoop.advance
+    calls = []
+
+    def advance(self, run, max_events):
+        calls.append(run.n_events)
+        return orig(self, run, min(max_events, run.n_events + 3))
+
+    monkeypatch.setattr(FastLoop, "advance", advance)
+    a = time_response(fast, 4.0, y0=y0, t_start=t0).result
+    monkeypatch.setattr(FastLoop, "advance", orig)
+    b = time_response(ref, 4.0, y0=y0, t_start=t0).result
+    _assert_same(a, b)
+    assert len(calls) > a.n_events // 4  # the kernel was entered again after each stop
+    assert fast.compiled_kernels()._fastloop.stops.get(14, 0) >= a.n_events // 4
+
+
+def test_max_events_and_switch_off():
+    """``max_events`` stops where the Python loop stops (status 1); ``compiled_loop=False``
+    and a trace keep the Python loop."""
+    fast, ref = _systems(51.0, 65.0)
+    y0, t0 = _start(ref, 51.0)
+    om = 2 * np.pi * 51.0
+    span = (t0, t0 + 2 * 2 * np.pi / om)
+    a = simulate_events(fast, span, y0, max_events=7, throw=False, rtol=1e-8, atol=1e-12)
+    b = simulate_events(ref, span, y0, max_events=7, throw=False, rtol=1e-8, atol=1e-12)
+    assert a.status == b.status == 1 and a.n_events == b.n_events == 7
+    assert a.t[-1] == b.t[-1] and np.array_equal(a.q, b.q)
+    assert ref.compiled_kernels().compiled_loop is False
+    assert BladeDamperSystem(fast.params, compiled_phases=False).compiled_kernels(
+    ).compiled_loop is False
