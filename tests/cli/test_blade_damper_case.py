@@ -73,9 +73,9 @@ def test_design_sweep_two_points(tmp_path):
 
 
 def test_time_response_without_a_periodic_orbit_is_unreliable(tmp_path):
-    """1 g, 65 deg, F_e = 8 N at 50.915 Hz: the steady state is a period-2 orbit that the
-    transient reaches only after ~200 periods (test_blade_damper_orbits.py). With a budget
-    of 10 periods the orbit search must say it found no steady state: period_multiple 0,
+    """1 g, 65 deg, F_e = 8 N at 50.915 Hz: no periodic orbit is stable there and the
+    response beats (test_blade_damper_orbits.py). With a budget of 10 periods the orbit
+    search must say it found no steady state: period_multiple 0,
     stable false, verdict unreliable (exit 3), never a transient called steady."""
     p = tmp_path / "bd.toml"
     p.write_text(BASE.format(model="gamma_deg = 65.0").replace(

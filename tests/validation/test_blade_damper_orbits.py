@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fricdamp.models import BladeDamperParameters, BladeDamperSystem
+from fricdamp.models import BladeDamperParameters
 from fricdamp.models.blade_damper.studies import (
     DesignStudy,
     design_study,
@@ -56,30 +56,36 @@ def test_orbit_at_58hz_equals_the_long_integration():
 
 
 @pytest.mark.slow
-def test_resonance_of_the_1g_65deg_design_is_a_period_two_orbit():
+def test_resonance_of_the_1g_65deg_design_beats():
     """1 g, gamma = 65 deg, F_Z = 100 N, F_e = 8 N at 50.915 Hz (the largest coarse sample
-    of the case's stepped sine): the period-1 orbit is unstable through a real multiplier
-    below -1 (period doubling), and the steady state is the stable period-2 orbit. Long
-    run: 300 periods from the same start, amplitude over the last two periods (the
-    period-2 multipliers are 0.91 per two periods: 0.91^150 ~ 1e-6). Tolerance 1e-4 as
-    above."""
-    from fricdamp.solvers.shooting import shoot
+    of the case's stepped sine): no periodic orbit of period <= 4 T is stable there, and the
+    response beats (quasi-periodic): on the section the state drifts slowly around a closed
+    curve. The orbit search says so (``periodic`` False) after its 200-period budget and
+    reports the larger half peak-to-peak of q4 over two 20-period windows, stationary.
 
+    Reference: 300 periods of plain integration from the same start. The half peak-to-peak
+    of q4 over 10-period windows between periods 200 and 300 varies by 0.4 % (8.44-8.47 mm
+    measured): a periodic response would repeat to the integration accuracy (1e-6). The
+    search's amplitude (the larger of two 20-period windows) must lie within the band of
+    the reference's 20-period windows widened by 0.5 %.
+
+    (Until the switching decision resolved ties between consistent configurations by 000
+    (43), round-off chose which contact broke away at nearly every switch here, and the
+    search once reported a "period-2 orbit" that the same integration with other sample
+    times did not reproduce.)"""
     p = BladeDamperParameters().with_(excitation_amplitude=8.0, damper_mass=1e-3,
                                       gamma_deg=65.0, centrifugal_force=100.0,
                                       excitation_frequency=50.915)
     ss = steady_state_amplitude(p)
-    assert ss.converged and ss.periodic and ss.stable and ss.period_multiple == 2
-    ref, tr = _long_run_amplitude(p, 300, 2.0)
-    assert ss.amplitude_m == pytest.approx(ref, rel=1e-4)
-    # the period-1 orbit near the attractor exists and flips (multiplier < -1)
+    assert ss.converged and not ss.periodic and ss.period_multiple == 0 and not ss.errors
+    _, tr = _long_run_amplitude(p, 300, 1.0, samples=200)
     r = tr.result
     T = 1 / p.excitation_frequency
-    o1 = shoot(BladeDamperSystem(p), T, np.concatenate([r.q[-1], r.qd[-1]]), t0=r.t[-1],
-               transient_periods=0, period_multiple=1, max_iter=12, rtol=1e-9)
-    assert o1.success and not o1.stable
-    mu = o1.multipliers[0]
-    assert abs(mu.imag) < 1e-9 and mu.real < -1.05
+    w10 = [0.5 * float(np.ptp(r.q[(r.t >= k * T) & (r.t <= (k + 10) * T), 3]))
+           for k in range(200, 300, 10)]
+    assert (max(w10) - min(w10)) > 1e-3 * max(w10)  # not periodic
+    w20 = [max(a, b) for a, b in zip(w10[::2], w10[1::2], strict=True)]
+    assert min(w20) * (1 - 5e-3) <= ss.amplitude_m <= max(w20) * (1 + 5e-3)
 
 
 def _fake_design(monkeypatch, lift_off_deg, slope):
