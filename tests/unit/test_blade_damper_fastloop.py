@@ -152,3 +152,58 @@ def test_max_events_and_switch_off():
     assert ref.compiled_kernels().compiled_loop is False
     assert BladeDamperSystem(fast.params, compiled_phases=False).compiled_kernels(
     ).compiled_loop is False
+
+
+@pytest.mark.parametrize("mu_static, mu_sliding, both", [(0.35, 0.30, False),
+                                                          (0.6, 0.2, True)])
+def test_decision_kernel_equals_decide_modes(mu_static, mu_sliding, both):
+    """The kernel's switching decision (``_decide``) against :meth:`Evaluator.decide_at`
+    (``decide_modes``) on random states, modes, candidates and must-slip contacts: where the
+    kernel decides (code 0) the modes are the same; it leaves to Python exactly the
+    decisions that are ambiguous there (code 16: Python warns and records them) and those
+    whose cascade is inconsistent (code 17: Python enumerates or raises). With
+    mu_static = 3 mu_sliding and both contacts candidates, ties of ``_select`` occur."""
+    from fricdamp.errors import ConvergenceError
+    from fricdamp.solvers.event_switch import Evaluator
+
+    p = BladeDamperParameters(excitation_amplitude=8.0, excitation_frequency=51.0).with_(
+        gamma_deg=65.0, mu_static=mu_static, mu_sliding=mu_sliding)
+    s = BladeDamperSystem(p, compiled_loop=False)
+    ck = s.compiled_kernels()
+    ev = Evaluator(s)
+    rng = np.random.default_rng(7)
+    q0 = s.static_equilibrium().q
+    codes = {}
+    logger = logging.getLogger("fricdamp.solvers.event_switch")
+    old = logger.disabled
+    logger.disabled = True  # the ties' warnings are expected here
+    try:
+        for trial in range(600):
+            spread = 2e-4 if trial % 2 else 1e-5 * (np.abs(q0) + 1e-4)
+            q = q0 + spread * rng.standard_normal(7)
+            qd = 0.05 * rng.standard_normal(7)
+            q, qd, _ = ev.project(0.0, q, qd, np.array([0, 0]))
+            t = rng.uniform(0, 0.02)
+            modes = rng.choice([-1, 0, 1], 2)
+            cand = np.ones(2, bool) if both else rng.random(2) < 0.7
+            must = np.where(~cand & (modes == 0), rng.choice([-1, 1], 2), 0)
+            n_amb = len(ev.ambiguities)
+            try:
+                ref = ev.decide_at(t, q, qd, modes, cand, must, np.ones(2))
+            except ConvergenceError:
+                ref = None
+            new = np.empty(2, np.int64)
+            code = ck.mod._decide(t, q, qd, modes.astype(np.int64), cand,
+                                  must.astype(np.int64), np.ones(2), ck.par, new)
+            codes[code] = codes.get(code, 0) + 1
+            amb = len(ev.ambiguities) > n_amb
+            assert (code == 16) == amb
+            if code == 0:
+                assert ref is not None and np.array_equal(new, ref)
+            else:
+                assert code in (16, 17)
+    finally:
+        logger.disabled = old
+    assert codes.get(0, 0) > 400
+    if both:
+        assert codes.get(16, 0) > 0

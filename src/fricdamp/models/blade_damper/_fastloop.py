@@ -21,7 +21,8 @@ common case, step for step:
   verification of :meth:`~fricdamp.solvers.event_switch.Evaluator.decide`: the
   single-candidate clip rule, the breakaway cascade with the friction LCP solved by the
   compiled Lemke kernel :func:`~fricdamp.solvers.event_kernels.lemke_kernel`, the
-  consistency check ``_consistent`` and the uniqueness check ``_check_unique``).
+  consistency check ``_consistent`` and the choice among several consistent configurations
+  ``_select``).
 
 Whatever the kernel would not do exactly as the Python path does stops it at the start of
 the phase concerned (the state just after the last completed switch, before the projection),
@@ -29,7 +30,8 @@ with a reason code: a singular constraint system (the Python path takes minimum-
 multipliers), a step size too small, an event at the phase start or a phase of zero length
 (chattering), ``max_events``, a failed Lemke solve, a cascade whose result is inconsistent
 (the Python path enumerates), several consistent configurations with the most stuck
-contacts (the Python path logs a warning and records the ambiguity). The Python loop then
+contacts and the same number of them stuck before the event (the Python path logs a
+warning and records the ambiguity). The Python loop then
 takes that one phase and switch and hands back (:class:`FastLoop`). Runs with a trace
 (shooting), unilateral contacts (``release=True``) or frictionless contacts never take the
 kernel.
@@ -49,7 +51,7 @@ REASONS = {
     13: "event at the phase start or a phase of zero length",
     14: "max_events reached",
     15: "Lemke's method failed",
-    16: "several consistent configurations with the most stuck contacts",
+    16: "several consistent configurations share the best score (_select warns)",
     17: "the breakaway cascade is inconsistent (enumeration)",
     18: "singular configuration solve in a switching decision",
 }
@@ -396,12 +398,17 @@ def _decide(t, q, qd, modes, cand_mask, must, sigma, par, new):
     if ok == 0:
         return 17
     if k >= 2 and mus > mud:
-        # _check_unique: several consistent configurations with the most stuck contacts
+        # _select: every consistent assignment of the candidates scored by (stuck, stuck
+        # before the event and still stuck); the unique best is taken, a tie is left to the
+        # Python loop (which warns and records the ambiguity)
         trial = new.copy()
-        best = -1
+        pick = new.copy()
+        best0 = -1
+        best1 = -1
         nalt = 0
         for code in range(3 ** k):
             ns = 0
+            nw = 0
             rest = code
             for m in range(k - 1, -1, -1):
                 d = rest % 3
@@ -409,18 +416,26 @@ def _decide(t, q, qd, modes, cand_mask, must, sigma, par, new):
                 trial[cand[m]] = 0 if d == 0 else (1 if d == 1 else -1)
                 if d == 0:
                     ns += 1
-            if ns < best:
+                    if modes[cand[m]] == STICK:
+                        nw += 1
+            if ns < best0 or (ns == best0 and nw < best1):
                 continue
             ok = _consistent(trial, decided, sigma, par, h, WN, WT, wbN, wbT)
             if ok < 0:
                 return 18
             if ok == 1:
-                if ns > best:
-                    best = ns
+                if ns > best0 or nw > best1:
+                    best0 = ns
+                    best1 = nw
                     nalt = 0
+                    for i in range(2):
+                        pick[i] = trial[i]
                 nalt += 1
         if nalt > 1:
             return 16
+        if nalt == 1:
+            for i in range(2):
+                new[i] = pick[i]
     return 0
 
 
