@@ -404,7 +404,7 @@ def _share_caches(run) -> None:
 
 def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "auto",
          rtol: float = 1e-10, atol: float = 1e-12, max_events: int = 100_000,
-         max_step: float = np.inf, monodromy: bool = True) -> Flow:
+         max_step: float = np.inf, monodromy: bool = True, keep_phases: bool = True) -> Flow:
     """Event-driven flow over ``t_span`` from ``y0`` with its monodromy matrix.
 
     Parameters
@@ -423,6 +423,11 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
         accuracy of the variational equations of DOP853 phases).
     monodromy : bool
         Compute ``d y_end / d y0`` (False: the flow only, monodromy is NaN).
+    keep_phases : bool
+        Keep the phase records (``Flow.trace``: exact extrema, the monodromy). With
+        ``monodromy=False`` and ``keep_phases=False`` the run may go through a system's
+        compiled event loop (the blade damper's), which keeps no records; ``trace`` is then
+        empty. Same flow either way.
 
     Returns
     -------
@@ -457,7 +462,7 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
     run = _Run(system, lf, t0, t1, te, rtol, atol, max_step)
     if lf is not None:
         _share_caches(run)
-    run.trace = []
+    run.trace = [] if (monodromy or keep_phases) else None
     run.with_energy = False
     # nor the mechanical energy of every sample (a Python call per phase): a flow's
     # result carries no energies (all NaN)
@@ -468,6 +473,9 @@ def flow(system: ConstrainedSystem, t_span, y0, *, t_eval=None, method: str = "a
         raise ConvergenceError(message)
     res = run.result(status, message, _time.perf_counter() - wall)
     trace = run.trace
+    if trace is None:  # the last sample is the state at t1 (an end is always recorded)
+        return Flow(np.concatenate([res.q[-1], res.qd[-1]]), np.full((2 * n, 2 * n), np.nan),
+                    res, [], 0, float("nan"))
     y_end = np.concatenate(trace[-1].y_end)
     if not monodromy:
         return Flow(y_end, np.full((2 * n, 2 * n), np.nan), res, trace, 0, float("nan"))
@@ -889,7 +897,7 @@ def _return_map(system, period, y0, *, t0=0.0, periods=40, max_multiple=8, metho
     dense = t0 + period * (np.arange(periods * spp + 1) / spp)
     te = dense[::spp]
     fl = flow(system, (t0, te[-1]), y0, t_eval=dense, method=method, rtol=rtol, atol=atol,
-              monodromy=False)
+              monodromy=False, keep_phases=False)
     res = fl.result
     n = system.n_dof
     # the samples at the stroboscopic times (event times are added to t: pick ours)
@@ -1063,7 +1071,7 @@ system: ConstrainedSystem, period: float, y0=None, *, period_multiple: int | Non
         tol = max(tol, 100 * rtol)
     if transient_periods > 0:
         y = flow(system, (t0, t0 + transient_periods * period), y, monodromy=False,
-                 **kw).y_end
+                 keep_phases=False, **kw).y_end
 
     def stable_of(fl):
         mu = np.abs(np.linalg.eigvals(fl.monodromy))

@@ -246,7 +246,7 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
         if k <= 0:
             return None
         fl = flow(s, (t, t + k * T), y, t_eval=np.linspace(t, t + k * T, 20 * k + 1),
-                  monodromy=False, rtol=rtol)
+                  monodromy=False, keep_phases=False, rtol=rtol)
         y, t, done = fl.y_end, t + k * T, done + k
         return fl.result
 
