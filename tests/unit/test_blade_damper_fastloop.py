@@ -207,3 +207,34 @@ def test_decision_kernel_equals_decide_modes(mu_static, mu_sliding, both):
     assert codes.get(0, 0) > 400
     if both:
         assert codes.get(16, 0) > 0
+
+
+def test_flow_without_phase_records_takes_the_compiled_loop():
+    """``flow(..., monodromy=False, keep_phases=False)`` (the return maps and transients of
+    shooting) runs through the compiled loop and ends where the traced flow (Python loop,
+    phase records kept) ends: 3 periods at the resonance, final state within 1e-8 of the
+    range as above; the traced run takes no phase through the kernel."""
+    from fricdamp.solvers.shooting import flow
+
+    fast, _ = _systems(51.0, 65.0)
+    y0, t0 = _start(fast, 51.0)
+    T = 1.0 / 51.0
+    calls = []
+    loop = fast.compiled_kernels().event_loop
+
+    def counting(run, max_events):
+        calls.append(run.trace is None)
+        return loop(run, max_events)
+
+    fast.compiled_kernels().event_loop = counting
+    try:
+        a = flow(fast, (t0, t0 + 3 * T), y0, monodromy=False, keep_phases=False, rtol=1e-9)
+        n_fast = len(calls)
+        b = flow(fast, (t0, t0 + 3 * T), y0, t_eval=np.linspace(t0, t0 + 3 * T, 301),
+                 monodromy=False, rtol=1e-9)
+    finally:
+        fast.compiled_kernels().event_loop = loop
+    assert n_fast >= 1 and all(calls[:n_fast]) and len(calls) == n_fast
+    assert a.trace == [] and len(b.trace) > 3
+    rng = np.concatenate([np.ptp(b.result.q, axis=0), np.ptp(b.result.qd, axis=0)])
+    assert np.all(np.abs(a.y_end - b.y_end) <= 1e-8 * rng + 1e-300)
