@@ -87,6 +87,32 @@ def _csr_times(ptr, idx, val, X, out, add):  # pragma: no cover - compiled
                 out[i, h] += a * X[j, h]
 
 
+@njit(cache=True, nogil=True)
+def _jenkins_linear_part(x, x_scale, ptr, col, v0, v1, v2, omega, rhs, p_ptr, p_idx, p_val,
+                         X, xf, rf, drf, U):  # pragma: no cover - compiled
+    """``X = x_scale x`` (``xf``: the flat view of ``X`` (n, nh)), :func:`_linear_residual`
+    into ``rf``, ``drf`` (N,) and ``U = P X`` (:func:`_csr_times`): the steps of an
+    evaluation before the AFT step, in one call (the same operations in the same order).
+    The flat views are passed, not made here: no reshape, so loading the cached code needs
+    no numba array modules (``tests/unit/test_hb_fast_path.py``)."""
+    for i in range(x.size):
+        xf[i] = x[i] * x_scale
+    _linear_residual(xf, ptr, col, v0, v1, v2, omega, rhs, rf, drf)
+    _csr_times(p_ptr, p_idx, p_val, X, U, False)
+
+
+@njit(cache=True, nogil=True)
+def _jenkins_contact_part(pt_ptr, pt_idx, pt_val, F, r, rf, drf, scale, r_out,
+                          dr_out):  # pragma: no cover - compiled
+    """``r += P^T F`` (:func:`_csr_times`; ``r`` (n, nh), ``rf`` its flat view), then
+    ``r_out = scale r``, ``dr_out = scale dr`` (flat): the steps of an evaluation after the
+    AFT step, in one call."""
+    _csr_times(pt_ptr, pt_idx, pt_val, F, r, True)
+    for i in range(rf.size):
+        r_out[i] = rf[i] * scale
+        dr_out[i] = drf[i] * scale
+
+
 def _csr_arrays(A):
     A = sp.csr_matrix(A)
     A.sort_indices()
@@ -416,7 +442,7 @@ class _Full:
         st = getattr(self, "_jstep", False)
         if st is not False:
             return st
-        from fricdamp.contact.jenkins import Jenkins, _prefix_sums
+        from fricdamp.contact.jenkins import Jenkins, _prefix_sums, jenkins_harmonic_step
 
         st = None
         s = self.s
@@ -430,6 +456,7 @@ class _Full:
             N, m = syn.shape
             nc = s.n_rows
             st = dict(
+                step=jenkins_harmonic_step,
                 kt=np.ascontiguousarray(np.concatenate([c.law.stiffness for c in s.contacts]),
                                         dtype=float),
                 fs=np.ascontiguousarray(np.concatenate([c.law.slip_force
@@ -437,7 +464,10 @@ class _Full:
                 w0=np.zeros(nc), syn=syn, pre=_prefix_sums(syn, ana),
                 U=np.empty((nc, m)), F=np.empty((nc, m)), Jb=np.empty((nc, m, m)),
                 u_t=np.empty((nc, N)), f_t=np.empty((nc, N)), w=np.empty(nc),
-                anchor=np.empty(N, np.int64), u=np.empty(N), fc=np.empty(m))
+                anchor=np.empty(N, np.int64), u=np.empty(N), fc=np.empty(m),
+                X=np.empty((s.n, s.nh)), r=np.empty((s.n, s.nh)), drf=np.empty(s.n * s.nh))
+            st["xf"] = st["X"].reshape(-1)          # flat views of the same buffers
+            st["rf"] = st["r"].reshape(-1)
             st["PS_rows"] = st["pre"][0].reshape(N + 1, m * m)
             st["Jb_rows"] = st["Jb"].reshape(nc, m * m)
         self._jstep = st
@@ -514,24 +544,23 @@ class _Full:
         the assembly is a third of an evaluation). Called after a later evaluation
         overwrote the buffers, it evaluates again at the same point (same values).
         """
-        from fricdamp.contact.jenkins import jenkins_harmonic_step
-
-        s = self.s
-        X = np.ascontiguousarray((x * x_scale).reshape(s.n, s.nh))
-        rhs = (self.F_static + load_scale * self.F_harmonic if load_scale != 0.0
-               else self.F_static)
-        r = np.empty((s.n, s.nh))
-        dSX = np.empty((s.n, s.nh))
-        _linear_residual(X.ravel(), self.lin_ptr, self.lin_col, self.lin_val[0],
-                         self.lin_val[1], self.lin_val[2], float(omega), rhs, r.ravel(),
-                         dSX.ravel())
-        U, F, Jb = js["U"], js["F"], js["Jb"]
-        _csr_times(*self.P_csr, X, U, False)
+        if js.get("load_scale") != load_scale:      # the right-hand side of this load scale
+            js["rhs"] = (self.F_static + load_scale * self.F_harmonic if load_scale != 0.0
+                         else self.F_static)
+            js["load_scale"] = load_scale
+        U, F, Jb, r, rf, drf = js["U"], js["F"], js["Jb"], js["r"], js["rf"], js["drf"]
+        # S(Omega) X - F, dS/dOmega X and U = P X; the AFT step; r += P^T F and the scaling:
+        # three compiled calls (work arrays kept in js; the returned arrays are new)
+        _jenkins_linear_part(np.asarray(x, dtype=float), float(x_scale), self.lin_ptr,
+                             self.lin_col, *self.lin_val, float(omega), js["rhs"],
+                             *self.P_csr, js["X"], js["xf"], rf, drf, U)
         _, PA, synT, anaT = js["pre"]
-        jenkins_harmonic_step(U, js["kt"], js["fs"], js["w0"], js["syn"], synT, anaT,
-                              js["PS_rows"], PA, 50, True, F, js["Jb_rows"], js["u_t"],
-                              js["f_t"], js["w"], js["anchor"], js["u"], js["fc"])
-        _csr_times(*self.PT_csr, F, r, True)
+        js["step"](U, js["kt"], js["fs"], js["w0"], js["syn"], synT, anaT, js["PS_rows"], PA,
+                   50, True, F, js["Jb_rows"], js["u_t"], js["f_t"], js["w"], js["anchor"],
+                   js["u"], js["fc"])      # jenkins_harmonic_step
+        r_out = np.empty(self.N)
+        dr_out = np.empty(self.N)
+        _jenkins_contact_part(*self.PT_csr, F, r, rf, drf, float(scale), r_out, dr_out)
         self._n_jenkins = token = getattr(self, "_n_jenkins", 0) + 1
 
         def jacobian():
@@ -546,8 +575,7 @@ class _Full:
 
         if deferred:
             x = np.array(x, dtype=float)     # the point, should the blocks be overwritten
-        return (r.ravel() * scale, jacobian if deferred else jacobian(), dSX.ravel() * scale,
-                None, None)
+        return r_out, jacobian if deferred else jacobian(), dr_out, None, None
 
     def _jacobian_from(self, data):
         if self.dense:

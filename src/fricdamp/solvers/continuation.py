@@ -356,7 +356,7 @@ class _Factor:
                                         np.empty(A.shape[0]))
             else:
                 res = np.max(np.abs(self.A @ x - b))
-            scale = np.max(np.abs(b)) + 1e-300
+            scale = _norm(b) + 1e-300
             if not np.isfinite(res) or res > 1e-8 * scale:
                 logger.debug("threshold-pivoted LU inaccurate (%.2e): partial pivoting", res)
                 self.lu = spla.splu(self.A)
@@ -393,20 +393,22 @@ class _Bordered:
 
     def __call__(self, J, c, t, s):
         n = J.shape[0]
-        if not sp.issparse(J):
+        if J is self._J and _fixed_pattern(J):
+            same = True         # the object of the last call, its pattern promised fixed
+        elif not sp.issparse(J):
             A = np.empty((n + 1, n + 1))
             A[:n, :n] = J
             A[:n, n] = c
             A[n, :n] = t
             A[n, n] = s
             return A
-        J = J.tocsc() if J.format != "csc" else J
-        if not J.has_sorted_indices:
-            J = J.sorted_indices()
-        key = (J.nnz, n)
-        same = (J is self._J and _fixed_pattern(J)) or (
-            self._key == key and np.array_equal(self._indptr, J.indptr)
-            and np.array_equal(self._indices, J.indices))
+        else:
+            J = J.tocsc() if J.format != "csc" else J
+            if not J.has_sorted_indices:
+                J = J.sorted_indices()
+            key = (J.nnz, n)
+            same = self._key == key and (np.array_equal(self._indptr, J.indptr)
+                                         and np.array_equal(self._indices, J.indices))
         self._J = J
         if not same:
             self._key = key
@@ -427,7 +429,7 @@ class _Bordered:
             self._new_indices = idx
             self._lastcol = new_indptr[n]
             self._A = None
-        data = np.empty(J.nnz + 2 * n + 1)
+        data = np.empty(self._new_indices.size)
         if n >= 64:
             from fricdamp.solvers._sparse_lu import bordered_values
 
@@ -452,7 +454,16 @@ class _Bordered:
 
 
 def _norm(r) -> float:
-    return float(np.max(np.abs(r))) if len(r) else 0.0
+    # the method, not np.max: ~3 us less per call on a few hundred entries (same value)
+    return float(np.abs(r).max()) if len(r) else 0.0
+
+
+def _append(r, g: float):
+    """``np.append(r, g)`` for a 1-D array ``r`` (a third of its time)."""
+    out = np.empty(r.size + 1)
+    out[:-1] = r
+    out[-1] = g
+    return out
 
 
 def jacobian_of(J):
@@ -822,16 +833,18 @@ def _continue(x0, residual, lam0, lam1, ds, ds_min, ds_max, x_scale, lam_scale, 
             if ok:
                 if chord is not None:
                     t_new = chord.tangent(t, border, orderings, counters)
+                elif Fa.tangent is not None:     # given by the corrector's last solve
+                    t_new = Fa.tangent.copy()
                 else:
                     rhs = np.zeros(n + 1)
                     rhs[n] = 1.0
-                    t_new = Fa.tangent.copy() if Fa.tangent is not None else Fa.solve(rhs)
+                    t_new = Fa.solve(rhs)
                 nt = 0.0 if t_new is None else np.linalg.norm(t_new)
                 if t_new is None or not np.all(np.isfinite(t_new)) or nt == 0:
                     ok = False
                 else:
                     t_new /= nt
-                    cos_a = float(t_new @ t)
+                    cos_a = float(t_new.dot(t))
                     if cos_a < cos_max and step_ds > ds_min * 1.0001:
                         ok = False   # the path bends too much for this step: refine
             if ok:
@@ -932,10 +945,10 @@ def _corrector(scaled, y_pred, t, tol, max_iter, border, counters, orderings=Non
             counters["fact"] += 1
             if not Fa.ok:
                 return y, it, False, None
-            g = float(t @ (y - y_pred))
+            g = float(t.dot(y - y_pred))       # (ndarray.dot: ~0.6 us less than @)
             # with the next tangent's right-hand side where that is nearly free (dense-block
             # factors): the last factorisation of a converged corrector gives the tangent
-            dy = -Fa.solve_with(np.append(r, g), e_n)
+            dy = -Fa.solve_with(_append(r, g), e_n)
             y = y + dy
             r, Jx, Jl = scaled(y)
             rn = _norm(r)
