@@ -7,32 +7,13 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from fricdamp.contact import Jenkins
 from fricdamp.solvers import continuation as cont
-from fricdamp.solvers import hb
 from fricdamp.solvers._hb_formulations import _Full, _Setup
-from fricdamp.structure import ContactElement, MechanicalSystem
-
-
-def _ring(n=12):
-    K = sp.lil_matrix((n, n))
-    P = sp.lil_matrix((n, n))
-    for i in range(n):
-        j = (i + 1) % n
-        K[i, i] += 1.1
-        K[i, j] -= 0.05
-        K[j, i] -= 0.05
-        P[i, i] = -1.0
-        P[i, j] = 1.0
-    return MechanicalSystem(M=sp.identity(n, format="csr"), K=K.tocsr(),
-                            D=0.005 * sp.identity(n, format="csr"),
-                            contacts=(ContactElement(Jenkins(0.5, 0.02, n_contacts=n),
-                                                     P.tocsr()),),
-                            loads=(hb.engine_order_load(n, 3, 0.01),), name="ring")
+from tests.unit.test_hb_reuse import ring
 
 
 def test_direct_evaluations_return_fresh_arrays_and_follow_the_load_scale():
-    s = _Setup(_ring(), 3, 32)
+    s = _Setup(ring(12), 3, 32)
     form = _Full(s, dense=False)
     assert form._jenkins_step() is not None
     rng = np.random.default_rng(5)
