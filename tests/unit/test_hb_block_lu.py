@@ -104,11 +104,11 @@ def test_factor_with_blocks_matches_superlu():
 
 
 @pytest.mark.parametrize("size", [11, 9, 7])
-def test_rows_of_twelve_in_registers_give_the_bits_of_the_general_loops(monkeypatch, size):
-    # stored rows of 12 (blocks of 9-12 unknowns, _PAD = 4) are updated with the row held
-    # in twelve scalars; rows padded to 16 or 20 (or blocks of 7: rows of 8) take the
-    # general loops. Every real entry sees the same operations in the same order, so the
-    # factors are the same to the bit (no tolerance); the solve checks the factors
+def test_rows_as_vectors_give_the_bits_of_the_general_loops(monkeypatch, size):
+    # stored rows of 4, 8, 12 or 16 (_PAD = 4 or 8; the border block has rows of 4 or 8)
+    # are factorised as <4 x double> vectors (_column_w), rows padded to 20 by the scalar
+    # loops (_column_any). Every real entry sees the same operations in the same order, so
+    # the factors are the same to the bit (no tolerance); the solve checks the factors
     from fricdamp.solvers import _sparse_lu
 
     A = _block_matrix(30, size, 7)

@@ -36,8 +36,12 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 import scipy.sparse as sp
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic
 
 from fricdamp._numba_cache import njit
 
@@ -171,63 +175,331 @@ def _clear(where, Lp, Li, Up, Ui, J):  # pragma: no cover - compiled
         where[Li[p]] = -1
 
 
+# ---------------------------------------------------------------------------- row vectors
+# Rows of W doubles (W the padded row length of a block, a multiple of 4) handled as W / 4
+# LLVM vectors <4 x double>: numba's loops over such rows stay scalar (the index of every
+# element goes through negative-index wrap-around, so neither the loop nor the SLP
+# vectoriser sees consecutive addresses), and a row of 12 held in scalars took 12 scalar
+# multiplies and subtractions per term. These intrinsics emit the vector multiplies and
+# subtractions themselves, lane by lane in the same order (no fused multiply-add, no
+# reassociation): the same bits as the scalar loops. W must be a compile-time constant (a
+# literal at the call, through inlined helpers).
+_I32 = ir.IntType(32)
+_V4 = ir.VectorType(ir.DoubleType(), 4)
+
+
+def _literal(value, what):
+    if not isinstance(value, types.IntegerLiteral) or value.literal_value % 4:
+        raise numba.core.errors.TypingError(f"{what} must be a compile-time multiple of 4")
+    return value.literal_value
+
+
+def _splat(builder, x):
+    v = builder.insert_element(ir.Constant(_V4, None), x, ir.Constant(_I32, 0))
+    return builder.shuffle_vector(v, ir.Constant(_V4, None),
+                                  ir.Constant(ir.VectorType(_I32, 4), [0, 0, 0, 0]))
+
+
+def _at(builder, data, off):
+    return builder.gep(data, [off], inbounds=True)
+
+
+def _offset(builder, base, k):
+    return builder.add(base, ir.Constant(base.type, k))
+
+
+def _vload(builder, data, off):
+    return builder.load(builder.bitcast(_at(builder, data, off), _V4.as_pointer()), align=8)
+
+
+def _vstore(builder, v, data, off):
+    builder.store(v, builder.bitcast(_at(builder, data, off), _V4.as_pointer()), align=8)
+
+
+def _data(context, builder, typ, value):
+    return context.make_array(typ)(context, builder, value).data
+
+
+def _row_slots(builder, data, off, W):
+    """Allocas holding the W / 4 vectors of the row at ``data[off]`` (promoted to registers
+    by LLVM)."""
+    slots = []
+    for g in range(W // 4):
+        slot = cgutils.alloca_once(builder, _V4)
+        builder.store(_vload(builder, data, _offset(builder, off, 4 * g)), slot)
+        slots.append(slot)
+    return slots
+
+
+def _store_row(builder, slots, data, off):
+    for g, slot in enumerate(slots):
+        _vstore(builder, builder.load(slot), data, _offset(builder, off, 4 * g))
+
+
+@intrinsic
+def _sub_rows(typingctx, width, Y, o, A, a0, X, x0, m):  # pragma: no cover - compiled
+    """``Y[o: o+W] -= sum_k A[a0 + k] * X[x0 + W k: x0 + W k + W]`` for k < m, in order of
+    k, the row held in registers (the row of Y must not be one of the rows of X read)."""
+    W = _literal(width, "the row width")
+    ip = types.intp
+    sig = types.void(width, Y, ip, A, ip, X, ip, ip)
+
+    def codegen(context, builder, signature, args):
+        _, y, o, a, a0, x, x0, m = args
+        ys = _data(context, builder, signature.args[1], y)
+        as_ = _data(context, builder, signature.args[3], a)
+        xs = _data(context, builder, signature.args[5], x)
+        acc = _row_slots(builder, ys, o, W)
+        with cgutils.for_range(builder, m) as loop:
+            k = loop.index
+            b = builder.add(x0, builder.mul(k, ir.Constant(k.type, W)))
+            av = _splat(builder, builder.load(_at(builder, as_, builder.add(a0, k))))
+            for g, slot in enumerate(acc):
+                xv = _vload(builder, xs, _offset(builder, b, 4 * g))
+                builder.store(builder.fsub(builder.load(slot), builder.fmul(av, xv)), slot)
+        _store_row(builder, acc, ys, o)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _axpy_row(typingctx, width, Y, o, a, U, u0):  # pragma: no cover - compiled
+    """``Y[o: o+W] -= a * U[u0: u0+W]``."""
+    W = _literal(width, "the row width")
+    ip = types.intp
+    sig = types.void(width, Y, ip, types.float64, U, ip)
+
+    def codegen(context, builder, signature, args):
+        _, y, o, a, u, u0 = args
+        ys = _data(context, builder, signature.args[1], y)
+        us = _data(context, builder, signature.args[4], u)
+        av = _splat(builder, a)
+        for g in range(W // 4):
+            yo = _offset(builder, o, 4 * g)
+            prod = builder.fmul(av, _vload(builder, us, _offset(builder, u0, 4 * g)))
+            _vstore(builder, builder.fsub(_vload(builder, ys, yo), prod), ys, yo)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _solve_row_upper(typingctx, width, Y, o, U, inv, n, amax):  # pragma: no cover - compiled
+    """Row ``y = Y[o: o+W]`` of a block below the diagonal block of a panel, times U^-1:
+    for c < n, ``a = y_c * inv[c]``, ``y -= a * U[cW: cW+W]`` (row c of U with zeros at
+    and left of the diagonal), ``y_c = a`` -- the operations of the right-looking panel
+    update on this row, in the same order. ``amax[c]`` becomes ``max(amax[c], |y_c|)``
+    with y_c before the scaling (the column below the pivot, for the threshold rule;
+    a NaN leaves it unchanged, as the comparison ``a > amax`` of the scalar loop did).
+    The steps are unrolled over c < W (lanes of y by constant index), each taken if
+    c < n."""
+    W = _literal(width, "the row width")
+    ip = types.intp
+    sig = types.void(width, Y, ip, U, inv, ip, amax)
+
+    def codegen(context, builder, signature, args):
+        _, y, o, u, iv, n, am = args
+        ys = _data(context, builder, signature.args[1], y)
+        us = _data(context, builder, signature.args[3], u)
+        ivs = _data(context, builder, signature.args[4], iv)
+        ams = _data(context, builder, signature.args[6], am)
+        fabs = builder.module.declare_intrinsic("llvm.fabs", [ir.DoubleType()])
+        row = _row_slots(builder, ys, o, W)
+        for c in range(W):
+            cc = ir.Constant(n.type, c)
+            with builder.if_then(builder.icmp_signed("<", cc, n), likely=True):
+                lane = ir.Constant(_I32, c % 4)
+                yc = builder.extract_element(builder.load(row[c // 4]), lane)
+                ay = builder.call(fabs, [yc])
+                pa = _at(builder, ams, cc)
+                m0 = builder.load(pa)
+                builder.store(builder.select(builder.fcmp_ordered(">", ay, m0), ay, m0), pa)
+                a = builder.fmul(yc, builder.load(_at(builder, ivs, cc)))
+                av = _splat(builder, a)
+                for g, slot in enumerate(row):
+                    uv = _vload(builder, us, ir.Constant(n.type, c * W + 4 * g))
+                    v = builder.fsub(builder.load(slot), builder.fmul(av, uv))
+                    if g == c // 4:
+                        v = builder.insert_element(v, a, lane)
+                    builder.store(v, slot)
+        _store_row(builder, row, ys, o)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
 @njit(cache=True, nogil=True, inline="always")
-def _sub_rows12(Y, o, A, a0, X, x0, m):  # pragma: no cover - compiled
-    """``Y[o:o+12] -= sum_k A[a0+k] * X[x0+12k : x0+12k+12]`` for k < m, in order of k, the
-    row held in twelve scalars (registers): the operations of the row loop of
-    :func:`_block_numeric`, in the same order, without its reload and store at every k."""
-    y0 = Y[o]
-    y1 = Y[o + 1]
-    y2 = Y[o + 2]
-    y3 = Y[o + 3]
-    y4 = Y[o + 4]
-    y5 = Y[o + 5]
-    y6 = Y[o + 6]
-    y7 = Y[o + 7]
-    y8 = Y[o + 8]
-    y9 = Y[o + 9]
-    y10 = Y[o + 10]
-    y11 = Y[o + 11]
-    for k in range(m):
-        a = A[a0 + k]
-        b = x0 + 12 * k
-        y0 -= a * X[b]
-        y1 -= a * X[b + 1]
-        y2 -= a * X[b + 2]
-        y3 -= a * X[b + 3]
-        y4 -= a * X[b + 4]
-        y5 -= a * X[b + 5]
-        y6 -= a * X[b + 6]
-        y7 -= a * X[b + 7]
-        y8 -= a * X[b + 8]
-        y9 -= a * X[b + 9]
-        y10 -= a * X[b + 10]
-        y11 -= a * X[b + 11]
-    Y[o] = y0
-    Y[o + 1] = y1
-    Y[o + 2] = y2
-    Y[o + 3] = y3
-    Y[o + 4] = y4
-    Y[o + 5] = y5
-    Y[o + 6] = y6
-    Y[o + 7] = y7
-    Y[o + 8] = y8
-    Y[o + 9] = y9
-    Y[o + 10] = y10
-    Y[o + 11] = y11
+def _column_w(W, J, nJ, S, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, piv, pstart,
+              threshold, where, upad, inv, amax, adiag):  # pragma: no cover - compiled
+    """Block column J of :func:`_block_numeric` when its rows are W long (``ld[J] == W``, a
+    literal): the U blocks, then the panel. Returns False if a pivot fails.
+
+    The panel first factorises the diagonal block (partial pivoting inside it), keeping
+    the rows of U padded with zeros (``upad``) and the reciprocal pivots, then takes each
+    row of the blocks below through all pivot columns at once (:func:`_solve_row_upper`),
+    and checks the threshold rule of every column at the end: the operations of the
+    right-looking loop over pivot columns, element by element in the same order (same bits),
+    each row loaded and stored once instead of once per pivot column.
+    """
+    for p in range(Up[J], Up[J + 1]):
+        K = Ui[p]
+        nK = bsz[K]
+        lK = ld[K]
+        x0 = Uoff[p]
+        d0 = Doff[K]
+        q0 = pstart[K]
+        for c in range(nK):                     # row interchanges of block K
+            r = piv[q0 + c]
+            if r != c:
+                for cc in range(W):
+                    t = S[x0 + c * W + cc]
+                    S[x0 + c * W + cc] = S[x0 + r * W + cc]
+                    S[x0 + r * W + cc] = t
+        for r in range(1, nK):                  # unit lower solve with L_KK
+            _sub_rows(W, S, x0 + r * W, S, d0 + r * lK, S, x0, r)
+        for q in range(Lp[K], Lp[K + 1]):       # X_IJ -= L_IK U_KJ
+            l0 = Loff[q]
+            y0 = where[Li[q]]
+            for r in range(bsz[Li[q]]):
+                _sub_rows(W, S, y0 + r * W, S, l0 + r * lK, S, x0, nK)
+    # ---- panel: diagonal block, pivots inside it
+    d0 = Doff[J]
+    q0 = pstart[J]
+    for c in range(nJ):
+        r_best = c
+        a_best = abs(S[d0 + c * W + c])
+        for r in range(c + 1, nJ):
+            a = abs(S[d0 + r * W + c])
+            if a > a_best:
+                a_best = a
+                r_best = r
+        if not (a_best > 0.0) or not math.isfinite(a_best):
+            return False
+        adiag[c] = a_best
+        piv[q0 + c] = r_best
+        if r_best != c:
+            for cc in range(W):
+                t = S[d0 + c * W + cc]
+                S[d0 + c * W + cc] = S[d0 + r_best * W + cc]
+                S[d0 + r_best * W + cc] = t
+        iv = 1.0 / S[d0 + c * W + c]
+        inv[c] = iv
+        # the pivot row right of the pivot, zeros elsewhere: the row updates run over
+        # whole rows, subtracting exact zeros left of column c + 1
+        for cc in range(W):
+            upad[c * W + cc] = S[d0 + c * W + cc] if cc > c else 0.0
+        for r in range(c + 1, nJ):
+            a = S[d0 + r * W + c] * iv
+            _axpy_row(W, S, d0 + r * W, a, upad, c * W)
+            S[d0 + r * W + c] = a
+    # ---- the blocks below, row by row; then the threshold rule of every pivot column
+    for c in range(nJ):
+        amax[c] = 0.0
+    for p in range(Lp[J], Lp[J + 1]):
+        l0 = Loff[p]
+        for r in range(bsz[Li[p]]):
+            _solve_row_upper(W, S, l0 + r * W, upad, inv, nJ, amax)
+    for c in range(nJ):
+        if adiag[c] < threshold * amax[c]:
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _column_any(J, nJ, lJ, S, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, piv, pstart,
+                threshold, where, urow):  # pragma: no cover - compiled
+    """Block column J of :func:`_block_numeric` for any row length (scalar loops):
+    returns False if a pivot fails."""
+    # ---- U blocks of column J, in topological order
+    for p in range(Up[J], Up[J + 1]):
+        K = Ui[p]
+        nK = bsz[K]
+        lK = ld[K]
+        X = S[Uoff[p]: Uoff[p] + nK * lJ]
+        D = S[Doff[K]: Doff[K] + nK * lK]
+        q0 = pstart[K]
+        for c in range(nK):                     # row interchanges of block K
+            r = piv[q0 + c]
+            if r != c:
+                for cc in range(lJ):
+                    t = X[c * lJ + cc]
+                    X[c * lJ + cc] = X[r * lJ + cc]
+                    X[r * lJ + cc] = t
+        for c in range(nK):                     # unit lower solve with L_KK
+            for r in range(c + 1, nK):
+                a = D[r * lK + c]
+                for cc in range(lJ):
+                    X[r * lJ + cc] -= a * X[c * lJ + cc]
+        for q in range(Lp[K], Lp[K + 1]):       # X_IJ -= L_IK U_KJ
+            nI = bsz[Li[q]]
+            Lb = S[Loff[q]: Loff[q] + nI * lK]
+            y0 = where[Li[q]]
+            Y = S[y0: y0 + nI * lJ]
+            for r in range(nI):
+                for k in range(nK):
+                    a = Lb[r * lK + k]
+                    for cc in range(lJ):
+                        Y[r * lJ + cc] -= a * X[k * lJ + cc]
+    # ---- panel: diagonal block with the blocks below, pivots inside the diagonal block
+    D = S[Doff[J]: Doff[J] + nJ * lJ]
+    q0 = pstart[J]
+    for c in range(nJ):
+        r_best = c
+        a_best = abs(D[c * lJ + c])
+        for r in range(c + 1, nJ):
+            a = abs(D[r * lJ + c])
+            if a > a_best:
+                a_best = a
+                r_best = r
+        a_below = 0.0
+        for p in range(Lp[J], Lp[J + 1]):
+            l0 = Loff[p]
+            for r in range(bsz[Li[p]]):
+                a = abs(S[l0 + r * lJ + c])
+                if a > a_below:
+                    a_below = a
+        if not (a_best > 0.0) or not math.isfinite(a_best) or a_best < threshold * a_below:
+            return False
+        piv[q0 + c] = r_best
+        if r_best != c:
+            for cc in range(lJ):
+                t = D[c * lJ + cc]
+                D[c * lJ + cc] = D[r_best * lJ + cc]
+                D[r_best * lJ + cc] = t
+        inv = 1.0 / D[c * lJ + c]
+        for cc in range(c + 1):
+            urow[cc] = 0.0
+        for cc in range(c + 1, lJ):
+            urow[cc] = D[c * lJ + cc]
+        for r in range(c + 1, nJ):
+            a = D[r * lJ + c] * inv
+            for cc in range(lJ):
+                D[r * lJ + cc] -= a * urow[cc]
+            D[r * lJ + c] = a
+        for p in range(Lp[J], Lp[J + 1]):
+            nI = bsz[Li[p]]
+            Lb = S[Loff[p]: Loff[p] + nI * lJ]
+            for r in range(nI):
+                a = Lb[r * lJ + c] * inv
+                for cc in range(lJ):
+                    Lb[r * lJ + cc] -= a * urow[cc]
+                Lb[r * lJ + c] = a
+    return True
 
 
 @njit(cache=True, nogil=True)
 def _block_numeric(data, amap, nB, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, S, piv,
-                   pstart, threshold, where, urow):  # pragma: no cover - compiled
+                   pstart, threshold, where, work):  # pragma: no cover - compiled
     """Left-looking block LU in place in ``S``. Returns 0, or J + 1 if the pivot search of
     block column J fails (zero, not finite or below the threshold rule).
 
     Block (I, J) is stored by rows of ``ld[J]`` (``bsz[J]`` rounded up to a multiple of 4,
-    the padding kept at zero), handled through 1-D views of ``S``: the row updates then
-    run over whole SIMD vectors (measured on 11 x 11 blocks: 0.46 ns per multiply-add with
-    rows of 11, 0.29 with rows of 12; 1.7 without views). ``where`` (nB) and ``urow`` (at
-    least max ld) are work arrays: the kernel allocates nothing, so loading its cached code
+    the padding kept at zero). Block columns whose rows are 4, 8, 12 or 16 long (harmonic
+    balance with H <= 7, and the border) go through :func:`_column_w`, whose rows are LLVM
+    vectors; other lengths through the scalar loops of :func:`_column_any` (the same
+    operations in the same order). ``where`` (nB) and ``work`` (at least ``m (m + 4)`` for
+    m = max ld) are work arrays: the kernel allocates nothing, so loading its cached code
     needs none of numba's array modules.
     """
     S[:] = 0.0
@@ -235,6 +507,14 @@ def _block_numeric(data, amap, nB, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, S,
         S[amap[p]] = data[p]
     for i in range(nB):
         where[i] = -1
+    m = 0
+    for J in range(nB):
+        m = max(m, ld[J])
+    upad = work[: m * m]
+    inv = work[m * m: m * m + m]
+    amax = work[m * m + m: m * m + 2 * m]
+    adiag = work[m * m + 2 * m: m * m + 3 * m]
+    urow = work[m * m + 3 * m: m * m + 4 * m]
     for i in range(urow.size):
         urow[i] = 0.0
     for J in range(nB):
@@ -245,98 +525,24 @@ def _block_numeric(data, amap, nB, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, S,
         where[J] = Doff[J]
         for p in range(Lp[J], Lp[J + 1]):
             where[Li[p]] = Loff[p]
-        # ---- U blocks of column J, in topological order
-        for p in range(Up[J], Up[J + 1]):
-            K = Ui[p]
-            nK = bsz[K]
-            lK = ld[K]
-            X = S[Uoff[p]: Uoff[p] + nK * lJ]
-            D = S[Doff[K]: Doff[K] + nK * lK]
-            q0 = pstart[K]
-            for c in range(nK):                     # row interchanges of block K
-                r = piv[q0 + c]
-                if r != c:
-                    for cc in range(lJ):
-                        t = X[c * lJ + cc]
-                        X[c * lJ + cc] = X[r * lJ + cc]
-                        X[r * lJ + cc] = t
-            if lJ == 12:
-                # rows of 12 (H = 5) held in registers while the rows above are
-                # subtracted: X and Y are views of one array, so the general loops below
-                # reload and store the row at every k; the same operations in the same
-                # order (the same bits), 10-15 % less time per factorisation
-                for r in range(1, nK):              # unit lower solve with L_KK
-                    _sub_rows12(X, r * 12, D, r * lK, X, 0, r)
-                for q in range(Lp[K], Lp[K + 1]):   # X_IJ -= L_IK U_KJ
-                    nI = bsz[Li[q]]
-                    l0 = Loff[q]
-                    y0 = where[Li[q]]
-                    for r in range(nI):
-                        _sub_rows12(S, y0 + r * 12, S, l0 + r * lK, X, 0, nK)
-                continue
-            for c in range(nK):                     # unit lower solve with L_KK
-                for r in range(c + 1, nK):
-                    a = D[r * lK + c]
-                    for cc in range(lJ):
-                        X[r * lJ + cc] -= a * X[c * lJ + cc]
-            for q in range(Lp[K], Lp[K + 1]):       # X_IJ -= L_IK U_KJ
-                nI = bsz[Li[q]]
-                Lb = S[Loff[q]: Loff[q] + nI * lK]
-                y0 = where[Li[q]]
-                Y = S[y0: y0 + nI * lJ]
-                for r in range(nI):
-                    for k in range(nK):
-                        a = Lb[r * lK + k]
-                        for cc in range(lJ):
-                            Y[r * lJ + cc] -= a * X[k * lJ + cc]
-        # ---- panel: diagonal block with the blocks below, pivots inside the diagonal block
-        D = S[Doff[J]: Doff[J] + nJ * lJ]
-        q0 = pstart[J]
-        for c in range(nJ):
-            r_best = c
-            a_best = abs(D[c * lJ + c])
-            for r in range(c + 1, nJ):
-                a = abs(D[r * lJ + c])
-                if a > a_best:
-                    a_best = a
-                    r_best = r
-            a_below = 0.0
-            for p in range(Lp[J], Lp[J + 1]):
-                l0 = Loff[p]
-                for r in range(bsz[Li[p]]):
-                    a = abs(S[l0 + r * lJ + c])
-                    if a > a_below:
-                        a_below = a
-            if not (a_best > 0.0) or not math.isfinite(a_best) or a_best < threshold * a_below:
-                _clear(where, Lp, Li, Up, Ui, J)
-                return J + 1
-            piv[q0 + c] = r_best
-            if r_best != c:
-                for cc in range(lJ):
-                    t = D[c * lJ + cc]
-                    D[c * lJ + cc] = D[r_best * lJ + cc]
-                    D[r_best * lJ + cc] = t
-            inv = 1.0 / D[c * lJ + c]
-            # the pivot row right of the pivot, zeros elsewhere: the row updates below then
-            # run over whole (padded) rows, subtracting exact zeros left of column c + 1
-            for cc in range(c + 1):
-                urow[cc] = 0.0
-            for cc in range(c + 1, lJ):
-                urow[cc] = D[c * lJ + cc]
-            for r in range(c + 1, nJ):
-                a = D[r * lJ + c] * inv
-                for cc in range(lJ):
-                    D[r * lJ + cc] -= a * urow[cc]
-                D[r * lJ + c] = a
-            for p in range(Lp[J], Lp[J + 1]):
-                nI = bsz[Li[p]]
-                Lb = S[Loff[p]: Loff[p] + nI * lJ]
-                for r in range(nI):
-                    a = Lb[r * lJ + c] * inv
-                    for cc in range(lJ):
-                        Lb[r * lJ + cc] -= a * urow[cc]
-                    Lb[r * lJ + c] = a
+        if lJ == 12:
+            ok = _column_w(12, J, nJ, S, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, piv,
+                           pstart, threshold, where, upad, inv, amax, adiag)
+        elif lJ == 4:
+            ok = _column_w(4, J, nJ, S, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, piv,
+                           pstart, threshold, where, upad, inv, amax, adiag)
+        elif lJ == 8:
+            ok = _column_w(8, J, nJ, S, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, piv,
+                           pstart, threshold, where, upad, inv, amax, adiag)
+        elif lJ == 16:
+            ok = _column_w(16, J, nJ, S, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, piv,
+                           pstart, threshold, where, upad, inv, amax, adiag)
+        else:
+            ok = _column_any(J, nJ, lJ, S, bsz, ld, Lp, Li, Up, Ui, Loff, Uoff, Doff, piv,
+                             pstart, threshold, where, urow)
         _clear(where, Lp, Li, Up, Ui, J)
+        if not ok:
+            return J + 1
     return 0
 
 
@@ -671,12 +877,13 @@ class BlockLU:
         if not self.ok:
             return None
         self.calls += 1
+        m = int(self.ld.max())
         S = np.empty(self.size)
         piv = np.empty(self.n, np.int64)
         status = _block_numeric(np.ascontiguousarray(data, dtype=float), self.amap, self.nB,
                                 self.bsz, self.ld, self.Lp, self.Li, self.Up, self.Ui, self.Loff,
                                 self.Uoff, self.Doff, S, piv, self.pstart, self.threshold,
-                                np.empty(self.nB, np.int64), np.empty(int(self.ld.max())))
+                                np.empty(self.nB, np.int64), np.empty(m * (m + 4)))
         if status != 0:
             self.failures += 1
             return None
