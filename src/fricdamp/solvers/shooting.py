@@ -196,12 +196,18 @@ class _Linearizer:
         if not (self.ev.constrained.any() or (modes == STICK).any()):
             return np.eye(2 * n)
         t = rec.t_start
+        y = np.concatenate(rec.y_pre)
+        ck = self.ev.compiled
+        if (ck is not None and hasattr(ck, "projection_jacobian") and ck.fused_phases
+                and self.ev.constrained.all() and not (modes == OPEN).any()):
+            ratio, P = ck.projection_jacobian(y, modes.astype(np.int64))
+            if ratio > ck.SINGULAR:  # the same differences in one compiled call
+                return P
 
         def proj(y):
             q, qd, _ = self.ev.project(t, y[:n], y[n:], modes)
             return np.concatenate([q, qd])
 
-        y = np.concatenate(rec.y_pre)
         return self._fd(proj, y)
 
     # -------------------------------------------------------------- phase transition
@@ -222,6 +228,12 @@ class _Linearizer:
         ck = self.ev.compiled
         modes_c = np.asarray(rec.modes, np.int64)
         sigma_c = np.asarray(rec.sigma, float)
+        if ck is not None and hasattr(ck, "transition") and getattr(ph, "_fused", False):
+            # the Magnus steps below in one compiled call (blade damper)
+            ratio, Phi, coarse = ck.transition(ph, rec.t_start, rec.t_end, modes_c, sigma_c)
+            if ratio > ck.SINGULAR:
+                self.coarse = coarse
+                return Phi
 
         def jac(t):
             y = ph.y(np.array([t]))[:2 * n, 0]
@@ -365,13 +377,22 @@ class _Linearizer:
         else:
             y = np.concatenate(rec.y_end)
             f_minus = self.field(t, y, rec.modes, rec.sigma)
-
-            def g(tt, yy):
-                return ph._g(tt, np.concatenate([yy, np.zeros(3)]))[0][i]
-
-            grad = self._fd(lambda yy: np.array([g(t, yy)]), y)[0]
+            # the event function's gradient (central differences, the steps of _fd) and its
+            # rate along f-, all 30 values in one call of the phase's event functions
+            steps = self._steps(y)
             dt = 1e-6 * max(rec.t_end - rec.t_start, abs(t) * 1e-3, 1e-12)
-            hdot = (g(t + dt, y + dt * f_minus) - g(t - dt, y - dt * f_minus)) / (2 * dt)
+            Y = np.empty((2 * n, 2 * (2 * n) + 2))
+            Y[:] = y[:, None]
+            j = np.arange(2 * n)
+            Y[j, 2 * j] += steps
+            Y[j, 2 * j + 1] -= steps
+            Y[:, -2] = y + dt * f_minus
+            Y[:, -1] = y - dt * f_minus
+            ts = np.full(Y.shape[1], t)
+            ts[-2:] = (t + dt, t - dt)
+            gv = ph._g_many(ts, Y)[0][i]
+            grad = (gv[0:4 * n:2] - gv[1:4 * n:2]) / (2 * steps)
+            hdot = (gv[-2] - gv[-1]) / (2 * dt)
             y2 = np.asarray(nxt.phase.y0[:2 * n])
             f_plus = self.field(t, y2, nxt.modes, nxt.sigma)
         if hdot == 0 or not np.isfinite(hdot):
@@ -918,6 +939,11 @@ def _return_map(system, period, y0, *, t0=0.0, periods=40, max_multiple=8, metho
     return m, fl.y_end, float(d[m - 1]), res
 
 
+#: largest scaled Newton step of :func:`_newton` (max |step_i| / scale_i, the scales being
+#: the largest |q| and |q'| of the motion): one motion's size
+_MAX_STEP = 1.0
+
+
 def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
     """Newton with backtracking on ``P^n(y) - y``.
 
@@ -926,15 +952,21 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
     t1 = t0 + nmul * period
     unilateral = bool(np.asarray(system.unilateral_contacts(), dtype=bool).any())
 
-    def evaluate(yy):
-        fl = flow(system, (t0, t1), yy, **kw)
+    def evaluate(yy, monodromy=True):
+        if monodromy:
+            fl = flow(system, (t0, t1), yy, **kw)
+        else:  # a line-search trial: the flow only (a compiled event loop may take it);
+            # with unilateral contacts the trials keep the monodromy, whose refusal of
+            # grazing and Zeno orbits (ConvergenceError) rejects a trial point
+            fl = flow(system, (t0, t1), yy, **{**kw, "monodromy": False,
+                                                "keep_phases": False})
         q, qd = fl.result.q, fl.result.qd
         sq, sv = _scales(np.vstack([q, yy[None, :n]]), np.vstack([qd, yy[None, n:]]))
         scale = np.concatenate([np.full(n, sq), np.full(n, sv)])
         r = fl.y_end - yy
-        return fl, r, float(np.max(np.abs(r) / scale))
+        return fl, r, float(np.max(np.abs(r) / scale)), scale
 
-    fl, r, norm = evaluate(y)
+    fl, r, norm, scale = evaluate(y)
     it = 0
     message = "converged"
     while norm > tol and it < max_iter:
@@ -953,11 +985,16 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
                 step = -np.linalg.solve(A, r)
             except np.linalg.LinAlgError:
                 step = -np.linalg.lstsq(A, r, rcond=1e-14)[0]
-        lam = 1.0
+        # a step longer than the motion itself (scaled) leaves the region where the map's
+        # linearisation says anything (a multiplier near 1 not caught as neutral): its
+        # trial states are far off any motion (a damper rotated by thousands of radians,
+        # through singular contact geometry), so the line search starts at that length
+        size = float(np.max(np.abs(step) / scale))
+        lam = min(1.0, _MAX_STEP / size) if size > 0 else 1.0
         best = None
         for _ in range(10):
             try:
-                trial = evaluate(y + lam * step)
+                trial = evaluate(y + lam * step, monodromy=unilateral)
             except ConvergenceError:
                 trial = None
             except ModelError:
@@ -973,8 +1010,19 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
         if best is None:
             message = "the solver failed at every Newton trial point"
             break
-        (fl, r, norm), lam = best
+        lam = best[1]
         y = y + lam * step
+        if unilateral:
+            fl, r, norm, scale = best[0]
+            continue
+        # the flow with its monodromy at the accepted point only (the trials' flows were
+        # taken without: most of an iteration's cost when the first trial is refused)
+        try:
+            fl, r, norm, scale = evaluate(y)
+        except ConvergenceError as exc:
+            message = f"no monodromy matrix at the accepted Newton point: {exc}"
+            y = y - lam * step  # (y, fl, r) stay those of the last evaluated point
+            break
     if norm > tol and message == "converged":
         message = (f"Newton did not converge in {max_iter} iterations (residual {norm:.3g} > "
                    f"tol {tol:g}) for period multiple {nmul}; try another y0, more "

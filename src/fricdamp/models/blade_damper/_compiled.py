@@ -936,9 +936,10 @@ def kinematics_source(contour: str) -> str:
         raise RuntimeError("the sympy symbols of the kinematics changed their names")
     body = "\n".join(lines)
     from fricdamp.models.blade_damper._fastloop import LOOP_SRC
+    from fricdamp.models.blade_damper._variational import VAR_SRC
 
     return (head + body + "\n" + _FUSED.format(g=_GAMMA, p1=_P1, p2=_P2) + _PHASE_SRC
-            + LOOP_SRC)
+            + LOOP_SRC + VAR_SRC)
 
 
 @functools.cache
@@ -1001,6 +1002,26 @@ class BladeDamperKernels:
         r = self.mod.jacobian(float(t), np.ascontiguousarray(y[:14], dtype=float), modes,
                               sigma, self.par, np.ascontiguousarray(steps, dtype=float), J)
         return r, J
+
+    def transition(self, phase, t_start, t_end, modes, sigma):
+        """Transition matrix of the fused DOP853 phase ``phase`` over [t_start, t_end]
+        (Magnus steps, :mod:`fricdamp.models.blade_damper._variational`): ``(ratio, Phi,
+        coarse)`` with ``coarse`` the product over whole steps."""
+        Phi, coarse = np.empty((14, 14)), np.empty((14, 14))
+        r = self.mod.transition(phase._TA, phase._TB, phase._YOLD, phase._FF, int(phase._m),
+                                float(phase.t0), np.ascontiguousarray(phase.y0, dtype=float),
+                                float(t_start), float(t_end), modes, sigma, self.par, Phi,
+                                coarse)
+        return r, Phi, coarse
+
+    def projection_jacobian(self, y, modes):
+        """Central-difference Jacobian (14, 14) of :meth:`project` at y = [q, q']: ``(ratio,
+        P)``."""
+        P = np.empty((14, 14))
+        r = self.mod.projection_jacobian(np.ascontiguousarray(y[:14], dtype=float),
+                                         np.ascontiguousarray(modes, dtype=np.int64),
+                                         self.par, P)
+        return r, P
 
     def solve_many(self, ts, Y, modes, sigma):
         nt = ts.size
