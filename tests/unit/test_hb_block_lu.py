@@ -152,6 +152,53 @@ def test_block_lu_not_used_where_blocks_are_sparse():
     assert F.block is None and orderings.items[0].block is None
 
 
+def _element_growth(F, A):
+    """max |L| max |U| / max |A| of dense-block factors, from their storage (reference);
+    the unit diagonal of L counts as 1."""
+    s, S = F.sym, F.S
+    l_max, u_max = 1.0, 0.0
+    for J in range(s.nB):
+        nJ, lJ = int(s.bsz[J]), int(s.ld[J])
+        D = S[s.Doff[J]: s.Doff[J] + nJ * lJ].reshape(nJ, lJ)[:, :nJ]
+        u_max = max(u_max, np.abs(np.triu(D)).max())
+        l_max = max(l_max, np.abs(np.tril(D, -1)).max())
+        for p in range(s.Up[J], s.Up[J + 1]):
+            u_max = max(u_max, np.abs(S[s.Uoff[p]: s.Uoff[p] + s.bsz[s.Ui[p]] * lJ]).max())
+        for p in range(s.Lp[J], s.Lp[J + 1]):
+            l_max = max(l_max, np.abs(S[s.Loff[p]: s.Loff[p] + s.bsz[s.Li[p]] * lJ]).max())
+    return l_max * u_max / np.abs(A.data).max()
+
+
+@pytest.mark.parametrize("scale, checked", [(1.0, False), (1e-4, True)])
+def test_element_growth_decides_the_residual_check(monkeypatch, scale, checked):
+    # the kernel reports the element growth max |L| max |U| / max |A| of its factors (the
+    # reference computed here from the storage: the same maxima, 1e-15). The first solve's
+    # residual check is skipped when it is small (block LU as accurate as the partial
+    # pivoting the check would fall back to), and done when a diagonal block 1e4 times
+    # smaller than its neighbours keeps pivots ~200 times smaller than the entries below
+    # them (threshold rule 1e-3: accepted; multipliers ~200, growth ~1e3)
+    from fricdamp.solvers import _sparse_lu
+
+    A = _block_matrix(30, 11, 5).tolil()
+    A[:11, :11] = A[:11, :11] * scale
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    F = BlockLU(A, 11).factor(A.data)
+    assert F.growth == pytest.approx(_element_growth(F, A), rel=1e-15)
+    assert (F.growth > _Factor.GROWTH_UNCHECKED) == checked
+    calls = []
+    norm = _sparse_lu.csc_residual_norm
+    monkeypatch.setattr(_sparse_lu, "csc_residual_norm",
+                        lambda *args: calls.append(1) or norm(*args))
+    orderings = _Orderings(block_size=11)
+    _Factor(A, orderings)                   # SuperLU: its fill decides for the pattern
+    Fb = _Factor(A, orderings)
+    b = A @ np.ones(A.shape[0])
+    x = Fb.solve(b)
+    assert Fb.block is not None and len(calls) == int(checked)
+    assert np.max(np.abs(x - 1.0)) <= 1e-12
+
+
 def test_jenkins_harmonic_response_equals_periodic_route():
     H, N = 5, 64
     basis = HarmonicBasis.create(H, N)
