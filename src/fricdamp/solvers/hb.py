@@ -514,9 +514,13 @@ def _curve_run(system, harmonics, samples, method, param, lam0, lam1, omega0, sc
         n_p = cres.n_points
         omegas = cres.lam if param == "omega" else np.full(n_p, omega0)
         scales = np.ones(n_p) if param == "omega" else cres.lam.copy()
-        X = np.stack([form.to_dofs(x, w, x_ref, load_scale=ls) for x, w, ls in
-                      zip(cres.x, omegas, scales, strict=True)]
-                     ) if n_p else np.zeros((0, s.n, s.nh))
+        if not n_p:
+            X = np.zeros((0, s.n, s.nh))
+        elif type(form).to_dofs is _Full.to_dofs:       # all points in one product
+            X = (cres.x * x_ref).reshape(n_p, s.n, s.nh)
+        else:
+            X = np.stack([form.to_dofs(x, w, x_ref, load_scale=ls) for x, w, ls in
+                          zip(cres.x, omegas, scales, strict=True)])
         stab = {}
         if stability and n_p:
             from fricdamp.solvers.hb_stability import branch_stability
