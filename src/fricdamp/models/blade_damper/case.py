@@ -402,6 +402,8 @@ class DamperDesign(Section):
         None, description="F_Z = m_D a_c (default: the model's F_Z / m_D)")
     excitation_amplitude_N: Positive | None = Field(
         None, description="overrides [model] excitation_amplitude_N")
+    workers: int = Field(1, ge=1, le=256, description="processes running the designs (the "
+                                                      "number of cores; same results)")
 
 
 def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
@@ -428,6 +430,7 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
                          frequency_hz=f, resolution_hz=spec.resolution_hz,
                          centrifugal_acceleration=spec.centrifugal_acceleration_m_per_s2,
                          boundary_refinements=spec.boundary_refinements,
+                         workers=spec.workers,
                          progress=None if bar is None else _progress(bar))
     finally:
         if bar is not None:

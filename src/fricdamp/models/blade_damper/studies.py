@@ -914,6 +914,72 @@ class DesignStudy:
         }
 
 
+def _design_job(args):
+    """One design of :func:`design_study`: ``(result dict, errors, n_nonperiodic)``."""
+    (base, pars, f, ac, kw), ip, m, g = args
+    p1, p2 = pars[ip]
+    pp = base.with_(damper_mass=float(m), gamma_deg=float(g), p1=p1, p2=p2,
+                    centrifugal_force=float(m * ac))
+    r = resonance_amplitude(pp, f, **kw)
+    errs = [f"m_D={m:g} kg, gamma={g:g} deg, p1={p1:g}: {e}" for e in r["errors"]]
+    return ({"blade_amplitude_m": float(r["peak_amplitude_m"]),
+             "peak_frequency_hz": float(r["peak_hz"]),
+             "converged": bool(np.all(r["converged"]) and r["all_converged"]),
+             "valid": bool(not r["errors"] and np.isfinite(r["peak_amplitude_m"])),
+             "min_normal_force_N": float(r["min_normal_force_N"])},
+            errs, int(r.get("n_nonperiodic", 0)))
+
+
+def _bracket_job(args):
+    """The bisection of one lift-off bracket of :func:`design_study`: ``(updated bracket
+    entries, errors, n_nonperiodic)``."""
+    ctx, b, refinements = args
+    b = {**b, "refined": list(b["refined"])}
+    errors: list[str] = []
+    n_np = 0
+    for _ in range(refinements):
+        g = 0.5 * (b["gamma_valid_deg"] + b["gamma_invalid_deg"])
+        d, errs, k = _design_job((ctx, b["parabola"], b["damper_mass_kg"], g))
+        errors.extend(errs)
+        n_np += k
+        b["refined"].append({"gamma_deg": float(g), **d})
+        if d["valid"]:
+            b.update(gamma_valid_deg=float(g), blade_amplitude_m=d["blade_amplitude_m"],
+                     peak_frequency_hz=d["peak_frequency_hz"])
+        elif d["min_normal_force_N"] < 0:
+            b["gamma_invalid_deg"] = float(g)
+        else:  # the solver failed: the boundary cannot be placed
+            break
+    return b, errors, n_np
+
+
+def _pool_call(fn, args):
+    """``fn(args)`` in a worker process, BLAS limited to one thread."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(1):
+        return fn(args)
+
+
+def _run_jobs(pool, fn, jobs, tick, weight: int = 1) -> list:
+    """``[fn(j) for j in jobs]``, in ``pool``'s processes when given; ``tick(weight)`` after
+    each job as it completes."""
+    if pool is None:
+        out = []
+        for j in jobs:
+            out.append(fn(j))
+            tick(weight)
+        return out
+    from concurrent.futures import as_completed
+
+    futs = {pool.submit(_pool_call, fn, j): k for k, j in enumerate(jobs)}
+    out: list = [None] * len(jobs)
+    for fu in as_completed(futs):
+        out[futs[fu]] = fu.result()
+        tick(weight)
+    return out
+
+
 def default_design_band(params=None, n: int = 10) -> np.ndarray:
     """Frequencies [Hz] covering the first two modes of the stuck and of the free-sliding
     system (3 % margin): the friction-damped blade resonances lie between them."""
@@ -933,7 +999,7 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
                  chunk_periods: float = 8.0, max_periods: float = 64.0, tol: float = 0.05,
                  rtol: float = 1e-7, resolution_hz: float | None = 0.25,
                  progress=None, method: str = "shooting", orbit_periods: int = 200,
-                 boundary_refinements: int = 3) -> DesignStudy:
+                 boundary_refinements: int = 3, workers: int = 1) -> DesignStudy:
     """Damper design study (000 Fig. 12): resonant blade amplitude q4 over m_D, gamma, parabola.
 
     Parameters
@@ -971,6 +1037,14 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
         optimum, and :attr:`DesignStudy.optimum_on_validity_boundary` says whether the
         optimum is the valid end of such a bracket (the amplitude still falls when the
         damper lifts off: the optimum is the boundary, not an interior minimum).
+    workers : int
+        Processes running the designs (1: all in this process). The grid's designs are
+        independent and each bracket's bisection is sequential, so the designs are spread
+        over the processes first (the lightest dampers, whose responses beat and cost the
+        most, first), then the brackets; each process limits BLAS to one thread. The results
+        are the same as with ``workers=1`` (each design is computed from the same start).
+        The paper-size grid (5 masses x 6 angles x 3 parabolas) takes about 5-6 minutes on
+        2 cores (benchmarks/bench_blade_damper.py ``--grid``).
 
     Returns
     -------
@@ -986,6 +1060,8 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
     if int(boundary_refinements) != boundary_refinements or boundary_refinements < 0:
         raise ModelError(f"boundary_refinements must be an integer >= 0, got "
                          f"{boundary_refinements!r}")
+    if isinstance(workers, bool) or int(workers) != workers or workers < 1:
+        raise ModelError(f"workers must be an integer >= 1, got {workers!r}")
     pars = tuple((float(a), float(b)) for a, b in (parabolas or [(base.p1, base.p2)]))
     ac = (base.centrifugal_force / base.damper_mass if centrifugal_acceleration is None
           else float(centrifugal_acceleration))
@@ -1003,73 +1079,71 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
     total, done = int(np.prod(shape)), 0
     nonper = [0]
 
-    def design(ip, m, g):
-        p1, p2 = pars[ip]
-        pp = base.with_(damper_mass=float(m), gamma_deg=float(g), p1=p1, p2=p2,
-                        centrifugal_force=float(m * ac))
-        r = resonance_amplitude(pp, f, chunk_periods=chunk_periods, max_periods=max_periods,
-                                tol=tol, rtol=rtol, resolution_hz=resolution_hz, method=method,
-                                orbit_periods=orbit_periods)
-        errors.extend(f"m_D={m:g} kg, gamma={g:g} deg, p1={p1:g}: {e}" for e in r["errors"])
-        nonper[0] += r.get("n_nonperiodic", 0)
-        return {"blade_amplitude_m": float(r["peak_amplitude_m"]),
-                "peak_frequency_hz": float(r["peak_hz"]),
-                "converged": bool(np.all(r["converged"]) and r["all_converged"]),
-                "valid": bool(not r["errors"] and np.isfinite(r["peak_amplitude_m"])),
-                "min_normal_force_N": float(r["min_normal_force_N"])}
+    kw = dict(chunk_periods=chunk_periods, max_periods=max_periods, tol=tol, rtol=rtol,
+              resolution_hz=resolution_hz, method=method, orbit_periods=orbit_periods)
+    ctx = (base, pars, f, ac, kw)
 
-    def tick():
+    def tick(k=1):
         nonlocal done
-        done += 1
+        done += k
         if progress is not None:
             progress(done, total)
 
-    for ip in range(len(pars)):
-        for im, m in enumerate(masses):
-            for ig, g in enumerate(gammas):
-                d = design(ip, m, g)
-                amp[ip, im, ig] = d["blade_amplitude_m"]
-                fpk[ip, im, ig] = d["peak_frequency_hz"]
-                conv[ip, im, ig] = d["converged"]
-                valid[ip, im, ig] = d["valid"]
-                minN[ip, im, ig] = d["min_normal_force_N"]
-                tick()
-    # the lift-off boundary per parabola and mass: bisection on gamma between the largest
-    # valid angle and the next grid angle where the damper lifts off
-    order = np.argsort(gammas)
-    brackets = []
-    for ip in range(len(pars)):
-        for im, m in enumerate(masses):
-            ok = [int(j) for j in order if valid[ip, im, j]]
-            b = {"parabola": ip, "damper_mass_kg": float(m), "gamma_valid_deg": None,
-                 "gamma_invalid_deg": None, "blade_amplitude_m": None,
-                 "peak_frequency_hz": None, "refined": []}
-            if ok:
-                jv = ok[-1]
-                b.update(gamma_valid_deg=float(gammas[jv]),
-                         blade_amplitude_m=float(amp[ip, im, jv]),
-                         peak_frequency_hz=float(fpk[ip, im, jv]))
-                above = [int(j) for j in order if gammas[j] > gammas[jv]]
-                if above and minN[ip, im, above[0]] < 0:
-                    b["gamma_invalid_deg"] = float(gammas[above[0]])
-            brackets.append(b)
-    total += int(boundary_refinements) * sum(b["gamma_invalid_deg"] is not None
-                                             for b in brackets)
-    for b in brackets:
-        if b["gamma_invalid_deg"] is None:
-            continue
-        for _ in range(int(boundary_refinements)):
-            g = 0.5 * (b["gamma_valid_deg"] + b["gamma_invalid_deg"])
-            d = design(b["parabola"], b["damper_mass_kg"], g)
-            b["refined"].append({"gamma_deg": float(g), **d})
-            tick()
-            if d["valid"]:
-                b.update(gamma_valid_deg=float(g), blade_amplitude_m=d["blade_amplitude_m"],
-                         peak_frequency_hz=d["peak_frequency_hz"])
-            elif d["min_normal_force_N"] < 0:
-                b["gamma_invalid_deg"] = float(g)
-            else:  # the solver failed: the boundary cannot be placed
-                break
+    def collect(out):
+        d, errs, n_np = out
+        errors.extend(errs)
+        nonper[0] += n_np
+        return d
+
+    jobs = [(ip, im, ig) for im in np.argsort(masses, kind="stable")
+            for ip in range(len(pars)) for ig in range(gammas.size)]
+    pool = None
+    if int(workers) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        pool = ProcessPoolExecutor(max_workers=int(workers))
+    try:
+        outs = _run_jobs(pool, _design_job, [(ctx, ip, float(masses[im]), float(gammas[ig]))
+                                             for ip, im, ig in jobs], tick)
+        for (ip, im, ig), out in sorted(zip(jobs, outs, strict=True)):
+            d = collect(out)
+            amp[ip, im, ig] = d["blade_amplitude_m"]
+            fpk[ip, im, ig] = d["peak_frequency_hz"]
+            conv[ip, im, ig] = d["converged"]
+            valid[ip, im, ig] = d["valid"]
+            minN[ip, im, ig] = d["min_normal_force_N"]
+        # the lift-off boundary per parabola and mass: bisection on gamma between the largest
+        # valid angle and the next grid angle where the damper lifts off
+        order = np.argsort(gammas)
+        brackets = []
+        for ip in range(len(pars)):
+            for im, m in enumerate(masses):
+                ok = [int(j) for j in order if valid[ip, im, j]]
+                b = {"parabola": ip, "damper_mass_kg": float(m), "gamma_valid_deg": None,
+                     "gamma_invalid_deg": None, "blade_amplitude_m": None,
+                     "peak_frequency_hz": None, "refined": []}
+                if ok:
+                    jv = ok[-1]
+                    b.update(gamma_valid_deg=float(gammas[jv]),
+                             blade_amplitude_m=float(amp[ip, im, jv]),
+                             peak_frequency_hz=float(fpk[ip, im, jv]))
+                    above = [int(j) for j in order if gammas[j] > gammas[jv]]
+                    if above and minN[ip, im, above[0]] < 0:
+                        b["gamma_invalid_deg"] = float(gammas[above[0]])
+                brackets.append(b)
+        total += int(boundary_refinements) * sum(b["gamma_invalid_deg"] is not None
+                                                 for b in brackets)
+        open_b = [b for b in brackets if b["gamma_invalid_deg"] is not None]
+        outs = _run_jobs(pool, _bracket_job, [(ctx, b, int(boundary_refinements))
+                                              for b in open_b], tick,
+                         weight=int(boundary_refinements))
+        for b, (nb, errs, n_np) in zip(open_b, outs, strict=True):
+            b.update(nb)
+            errors.extend(errs)
+            nonper[0] += n_np
+    finally:
+        if pool is not None:
+            pool.shutdown()
     return DesignStudy(damper_mass_kg=masses, gamma_deg=gammas, parabolas=pars,
                        blade_amplitude_m=amp, peak_frequency_hz=fpk, converged=conv, valid=valid,
                        centrifugal_acceleration=ac, frequency_hz=f, errors=tuple(errors),
