@@ -13,10 +13,38 @@ Event functions are sampled on a grid of step ``pi / (4 w_max)`` (w_max the larg
 their exact derivatives; a sign change from positive to non-positive, or a sampled interval
 whose derivative changes sign with a non-positive minimum (a grazing dip), is refined by
 Brent's method to round-off. DOP853 phases test each step at its end and at three interior
-points of the dense output. Roots of several functions closer than round-off (exact phases)
-or than their integration uncertainty (DOP853: ``rtol`` times the function's scale over its
-rate, so that round-off does not decide which of two symmetric contacts breaks away first)
-are one event.
+points of the dense output; a dip between those samples (grazing) is looked for where the
+samples show a small local minimum (:func:`dip_windows`, :func:`dip_search`). Roots of several
+functions closer than round-off (exact phases) or than their integration uncertainty (DOP853:
+``rtol`` times the function's scale over its rate, so that round-off does not decide which of
+two symmetric contacts breaks away first) are one event.
+
+Grazing in DOP853 phases
+------------------------
+A function that dips below its threshold and comes back between two samples (a stuck
+contact's friction reserve touching the limit briefly, a slip velocity nearly stopping) has
+no sign change among the samples. The samples of a step (its start and its quarter points,
+spacing d = h/4) are searched for it where they show a local minimum v_k (the value plus the
+round-off level) with ``0 < v_k <= c``, c the largest |second difference| of the step's five
+samples (:func:`dip_windows`). That trigger cannot miss a dip the samples resolve: the step
+is at most a quarter of the fastest period (``pi / (4 w_max)``), so no function turns twice
+within two sample spacings, and a minimum inside ``(t_k, t_k+1)`` makes t_k or t_k+1 a local
+minimum of the samples (else the function would rise and fall again between t_k-1 and t_k+2);
+the minimum lies at most d/2 from the nearer sample, so it is at most ``max|g''| d^2 / 8``
+below it, while the second differences are ``g'' d^2`` at their centres: the trigger leaves a
+factor 8 for the variation of g'' over the step. A local minimum is a small fraction of the
+function's amplitude A below the samples (``c <= A (w_max d)^2 <= A (pi/16)^2``, 4 %), so only
+samples within a few per cent of the threshold start a search. At the start of a phase, a
+function that sits at zero (a contact that just switched, set slipping or stuck by a
+consistent decision, so moving away from its limit) is not searched at the phase start.
+The search (:func:`dip_search`) is Brent's bounded minimisation (golden section with
+parabolic steps, :func:`scipy.optimize.fminbound`'s algorithm) of the event function on the
+step's dense output over the two sample intervals around the local minimum (one at the ends
+of the step), the location to 1e-5 of that window (the minimum's value to ``2e-10 c`` or
+better), stopped as soon as a point below the threshold is found; the event then fires at
+the first root before that point (Brent's root finder on the bracket from the left sample,
+unique there since the function turns once). A step ending at a local minimum is searched on
+its last interval and the next step on its first.
 """
 
 from __future__ import annotations
@@ -113,7 +141,123 @@ def _refine(g, ta, tb, h_scale):
     return r
 
 
-def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None, refine=None):
+#: Brent's bounded minimisation in dip_search: location tolerance (share of the window)
+DIP_XATOL = 1e-5
+_DIP_MAXFUN = 100
+
+
+def dip_windows(v, sits=False):
+    """Sample windows to search for a dip of one event function (see the module docstring).
+
+    Parameters
+    ----------
+    v : sequence of 5 floats
+        The function plus its round-off level at a step's start and quarter points.
+    sits : bool
+        The step starts the phase and the function sits at zero there (``v[0] <= 2 tol``):
+        its start is not a candidate.
+
+    Returns
+    -------
+    list of (a, b)
+        Sample indices bounding each window: ``(k - 1, k + 1)`` around a local minimum
+        ``v[k]`` of the samples with ``0 < v[k] <= c`` (c the largest |second difference|),
+        clipped to ``[0, 4]`` at the ends of the step. Empty unless ``c`` exceeds the
+        round-off level (``v`` varies by more than ``tol``: then the function sits at zero).
+    """
+    c = max(abs(v[0] - 2.0 * v[1] + v[2]), abs(v[1] - 2.0 * v[2] + v[3]),
+            abs(v[2] - 2.0 * v[3] + v[4]))
+    out = []
+    for k in range(5):
+        if not (0.0 < v[k] <= c):
+            continue
+        if (k > 0 and v[k] > v[k - 1]) or (k < 4 and v[k] > v[k + 1]) or (k == 0 and sits):
+            continue
+        out.append((max(k - 1, 0), min(k + 1, 4)))
+    return out
+
+
+def dip_search(g, ta, tb):
+    """A time in [ta, tb] where ``g <= 0``, or None: Brent's bounded minimisation of g.
+
+    :func:`scipy.optimize.fminbound`'s algorithm (golden section and parabolic steps) on the
+    window mapped to [0, 1], location tolerance ``DIP_XATOL`` (1e-5 of the window), stopped at
+    the first point with ``g <= 0``. The blade damper's compiled ``dip_search`` is the same
+    algorithm operation for operation.
+    """
+    w = tb - ta
+
+    def f(x):
+        return g(ta + x * w)
+
+    sqrt_eps = np.sqrt(2.2e-16)
+    golden_mean = 0.5 * (3.0 - np.sqrt(5.0))
+    a, b = 0.0, 1.0
+    fulc = a + golden_mean * (b - a)
+    nfc, xf = fulc, fulc
+    rat = e = 0.0
+    fx = f(xf)
+    if fx <= 0:
+        return ta + xf * w
+    num = 1
+    ffulc = fnfc = fx
+    xm = 0.5 * (a + b)
+    tol1 = sqrt_eps * abs(xf) + DIP_XATOL / 3.0
+    tol2 = 2.0 * tol1
+    while abs(xf - xm) > tol2 - 0.5 * (b - a) and num < _DIP_MAXFUN:
+        golden = True
+        if abs(e) > tol1:
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            p = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            r = e
+            e = rat
+            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
+                rat = (p + 0.0) / q
+                x = xf + rat
+                if (x - a) < tol2 or (b - x) < tol2:
+                    rat = tol1 * (1.0 if xm >= xf else -1.0)
+            else:
+                golden = True
+        if golden:
+            e = (a - xf) if xf >= xm else (b - xf)
+            rat = golden_mean * e
+        x = xf + (1.0 if rat >= 0 else -1.0) * max(abs(rat), tol1)
+        fu = f(x)
+        num += 1
+        if fu <= 0:
+            return ta + x * w
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc, ffulc = nfc, fnfc
+            nfc, fnfc = xf, fx
+            xf, fx = x, fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if fu <= fnfc or nfc == xf:
+                fulc, ffulc = nfc, fnfc
+                nfc, fnfc = x, fu
+            elif fu <= ffulc or fulc == xf or fulc == nfc:
+                fulc, ffulc = x, fu
+        xm = 0.5 * (a + b)
+        tol1 = sqrt_eps * abs(xf) + DIP_XATOL / 3.0
+        tol2 = 2.0 * tol1
+    return None
+
+
+def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None, refine=None,
+                dip=None):
     """Earliest event among sampled event functions.
 
     An event function fires when it falls below ``-tol`` (its round-off level): a function
@@ -145,6 +289,12 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None, refine=
     refine : callable (i, ta, tb, h_scale, tol_i) -> float, optional
         Replaces :func:`_refine` on ``gi(i, t) + tol_i`` (a compiled root finder doing the
         same).
+    dip : callable (i, ta, tb, tol_i) -> float or None, optional
+        DOP853 phases (five samples: the step's start and quarter points): the windows of
+        :func:`dip_windows` are searched for a dip below the threshold by ``dip`` (a time
+        in the window where ``gi(i, t) + tol_i <= 0``, or None; :func:`dip_search` on
+        ``gi`` when True is given). A window is searched with the interval it starts in;
+        a root found beyond that interval waits for the roots of the next one.
 
     Returns
     -------
@@ -158,10 +308,17 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None, refine=
         if imm.size:
             return tt[0], imm, True
     roots = np.full(G.shape[0], np.inf)
+    windows = [[] for _ in range(G.shape[0])]
+    if dip is not None:
+        if dip is True:
+            def dip(i, a, b, tol_i):
+                return dip_search(lambda t: gi(i, t) + tol_i, a, b)
+        for i in range(G.shape[0]):
+            windows[i] = dip_windows(Gs[i], first and Gs[i, 0] <= 2 * tol[i])
     for j in range(tt.size - 1):
         for i in range(G.shape[0]):
             g = Gs[i]
-            if not g[j] > 0:
+            if not (g[j] > 0 and np.isinf(roots[i])):
                 continue
 
             def gs(t, i=i):
@@ -177,7 +334,16 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None, refine=
                             xtol=4 * _EPS * max(abs(tt[j]), tt[j + 1] - tt[j]), rtol=4 * _EPS)
                 if gs(tm) <= 0:
                     roots[i] = _refine(gs, tt[j], tm, tt[j + 1] - tt[j])
-        if np.isfinite(roots).any():
+            for a, b in windows[i]:  # all samples of a window are > 0
+                if a != j or not np.isinf(roots[i]):
+                    continue
+                tm = dip(i, tt[a], tt[b], tol[i])
+                if tm is not None:  # the first root before the point below the threshold
+                    if refine is not None:
+                        roots[i] = refine(i, tt[a], tm, tt[j + 1] - tt[j], tol[i])
+                    else:
+                        roots[i] = _refine(gs, tt[a], tm, tt[j + 1] - tt[j])
+        if np.isfinite(roots).any() and (roots.min() <= tt[j + 1] or j == tt.size - 2):
             best = roots.min()
             window = np.full(roots.size, 1e3 * _EPS * max(abs(best), tt[j + 1] - tt[j]))
             if time_tol is not None:
@@ -434,7 +600,7 @@ class NumericalPhase:
                 err = self.rtol * self._scale[i]
                 return min(err / rate, 1e-2 * h) if rate > 0 else 1e-2 * h
 
-            found = first_event(tt, G, gfun, self._tol(), first, time_tol=time_tol)
+            found = first_event(tt, G, gfun, self._tol(), first, time_tol=time_tol, dip=True)
             first = False
             if found is not None:
                 t_hit = found[0]
@@ -447,7 +613,8 @@ class NumericalPhase:
     def _advance_fused(self, t_end):
         """:meth:`advance` with the DOP853 steps and the event screening in compiled code
         (the same step-size control, dense output and event samples); only a step whose
-        samples change sign comes back here for :func:`first_event`."""
+        samples change sign or show a dip window (:func:`dip_windows`) comes back here for
+        :func:`first_event` (with the compiled root finder and dip search)."""
         ck = self._ck
         n_ev = self.kinds.size
         ny = 2 * self.n + 3
@@ -518,8 +685,14 @@ class NumericalPhase:
                                       self._kinds_c, self._contacts_c, self._lim_c,
                                       self._sgn_c, self.vel_scale)
 
+            def dip(i, a, b, tol_i, j=j):
+                t = ck.dip_search(j, i, a, b, tol_i, self._TA, self._TB, self._YOLD, self._FF,
+                                  self._modes_c, self.sigma, self._kinds_c, self._contacts_c,
+                                  self._lim_c, self._sgn_c, self.vel_scale)
+                return None if np.isnan(t) else t
+
             found = first_event(tt, G, gfun, 1e2 * _EPS * self._scale + np.finfo(float).tiny,
-                                stats[3] != 0.0, time_tol=time_tol, refine=refine)
+                                stats[3] != 0.0, time_tol=time_tol, refine=refine, dip=dip)
             if found is not None:
                 return Hit(found[0], found[1], immediate=found[2])
             stats[3] = 0.0
@@ -563,4 +736,4 @@ class NumericalPhase:
 
 
 __all__ = ["EV_GAP", "EV_NORMAL", "EV_SLIP", "EV_STICK_NEG", "EV_STICK_POS", "Hit",
-           "NumericalPhase", "event_list", "first_event"]
+           "NumericalPhase", "dip_search", "dip_windows", "event_list", "first_event"]

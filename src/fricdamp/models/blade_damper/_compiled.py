@@ -622,10 +622,121 @@ def refine_root(j, i, ta, tb, h_scale, tol_i, TA, TB, YOLD, FF, modes, sigma, pa
 
 
 @njit(cache=True)
+def dip_windows(v, sits, wa, wb):
+    """:func:`fricdamp.solvers.event_phase.dip_windows` on the five samples v (the function
+    plus its round-off level): the windows' first and last sample indices into wa, wb;
+    returns their number."""
+    c = max(abs(v[0] - 2.0 * v[1] + v[2]), abs(v[1] - 2.0 * v[2] + v[3]),
+            abs(v[2] - 2.0 * v[3] + v[4]))
+    n = 0
+    for k in range(5):
+        if not (0.0 < v[k] <= c):
+            continue
+        if (k > 0 and v[k] > v[k - 1]) or (k < 4 and v[k] > v[k + 1]) or (k == 0 and sits):
+            continue
+        wa[n] = max(k - 1, 0)
+        wb[n] = min(k + 1, 4)
+        n += 1
+    return n
+
+
+@njit(cache=True)
+def dip_search(j, i, ta, tb, tol_i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
+               sgn, vel):
+    """A time in [ta, tb] where event function i plus tol_i is <= 0 on the dense output of
+    step j, or NaN: :func:`fricdamp.solvers.event_phase.dip_search` (Brent's bounded
+    minimisation, fminbound's algorithm, window mapped to [0, 1], location to 1e-5 of the
+    window, stopped at the first point <= 0), operation for operation."""
+    ytmp = np.empty(_NY)
+    g = np.empty(kinds.size)
+    s = np.empty(kinds.size)
+    w = tb - ta
+    xatol = 1e-5
+    sqrt_eps = np.sqrt(2.2e-16)
+    golden_mean = 0.5 * (3.0 - np.sqrt(5.0))
+    a = 0.0
+    b = 1.0
+    fulc = a + golden_mean * (b - a)
+    nfc = fulc
+    xf = fulc
+    rat = 0.0
+    e = 0.0
+    fx = _g_at(ta + xf * w, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
+               sgn, vel, tol_i, ytmp, g, s)
+    if fx <= 0:
+        return ta + xf * w
+    num = 1
+    ffulc = fx
+    fnfc = fx
+    xm = 0.5 * (a + b)
+    tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+    tol2 = 2.0 * tol1
+    while abs(xf - xm) > tol2 - 0.5 * (b - a) and num < 100:
+        golden = True
+        if abs(e) > tol1:
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            p = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            r = e
+            e = rat
+            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
+                rat = (p + 0.0) / q
+                x = xf + rat
+                if (x - a) < tol2 or (b - x) < tol2:
+                    rat = tol1 * (1.0 if xm >= xf else -1.0)
+            else:
+                golden = True
+        if golden:
+            e = (a - xf) if xf >= xm else (b - xf)
+            rat = golden_mean * e
+        x = xf + (1.0 if rat >= 0 else -1.0) * max(abs(rat), tol1)
+        fu = _g_at(ta + x * w, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
+                   sgn, vel, tol_i, ytmp, g, s)
+        num += 1
+        if fu <= 0:
+            return ta + x * w
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc = nfc
+            ffulc = fnfc
+            nfc = xf
+            fnfc = fx
+            xf = x
+            fx = fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if fu <= fnfc or nfc == xf:
+                fulc = nfc
+                ffulc = fnfc
+                nfc = x
+                fnfc = fu
+            elif fu <= ffulc or fulc == xf or fulc == nfc:
+                fulc = x
+                ffulc = fu
+        xm = 0.5 * (a + b)
+        tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+        tol2 = 2.0 * tol1
+    return np.nan
+
+
+@njit(cache=True)
 def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, contacts, lim,
               sgn, g_prev, scale, vel, TA, TB, YOLD, FF, m, GI, stats):
     """DOP853 steps of one configuration (scipy's DOP853 step-size control and dense output),
-    each step screened for events at the quarter points of its dense output.
+    each step screened for events at the quarter points of its dense output: a sign change
+    among the samples (the step's start and quarter points) or a window of
+    :func:`dip_windows` (a small local minimum: a possible dip between samples).
 
     State in/out: ``y`` (17), ``f`` (17, rhs at y), ``stats`` = [t, h_abs, n_rhs, first]
     (``h_abs <= 0``: start of the phase, f is evaluated and the initial step chosen as scipy
@@ -635,6 +746,9 @@ def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, conta
     2 buffers full, 3 step size too small, 4 singular constraint system (generic path).
     """
     nev = kinds.size
+    v5 = np.empty(5)
+    wa = np.empty(5, dtype=np.int64)
+    wb = np.empty(5, dtype=np.int64)
     K = np.empty((16, _NY))
     ynew = np.empty(_NY)
     ytmp = np.empty(_NY)
@@ -788,11 +902,15 @@ def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, conta
                 if first and g_prev[e] + tol <= 0.0:
                     flag = True
                 prev = g_prev[e] + tol
+                v5[0] = prev
                 for c in range(4):
                     cur = GI[e, c] + tol
                     if prev > 0.0 and cur <= 0.0:
                         flag = True
                     prev = cur
+                    v5[c + 1] = cur
+                if not flag and dip_windows(v5, first and v5[0] <= 2.0 * tol, wa, wb) > 0:
+                    flag = True
         stats[0] = t
         stats[1] = h_abs
         if flag:
@@ -1064,6 +1182,14 @@ class BladeDamperKernels:
         return self.mod.refine_root(int(j), int(i), float(ta), float(tb), float(h_scale),
                                     float(tol_i), TA, TB, YOLD, FF, modes, sigma, self.par,
                                     kinds, contacts, lim, sgn, vel)
+
+    def dip_search(self, j, i, ta, tb, tol_i, TA, TB, YOLD, FF, modes, sigma, kinds, contacts,
+                   lim, sgn, vel):
+        """A time in [ta, tb] of stored step j where event function i plus tol_i is <= 0, or
+        NaN (see the generated ``dip_search``)."""
+        return self.mod.dip_search(int(j), int(i), float(ta), float(tb), float(tol_i), TA, TB,
+                                   YOLD, FF, modes, sigma, self.par, kinds, contacts, lim, sgn,
+                                   vel)
 
     def refine_value(self, j, i, t, TA, TB, YOLD, FF, modes, sigma, kinds, contacts, lim,
                      sgn, vel):

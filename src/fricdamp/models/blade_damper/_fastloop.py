@@ -9,8 +9,9 @@ common case, step for step:
 
 * projection onto the configuration's constraints (``project``, as ``_Run._project``);
 * the phase: the event functions at its start, ``phase_run`` (DOP853 steps screened for
-  events), and :func:`~fricdamp.solvers.event_phase.first_event` with the compiled root
-  refinement (``refine_root``) and the root-uncertainty grouping (``time_tol`` of
+  events and dips), and :func:`~fricdamp.solvers.event_phase.first_event` with the compiled
+  root refinement (``refine_root``), dip search (``dip_search``) and the root-uncertainty
+  grouping (``time_tol`` of
   :meth:`~fricdamp.solvers.event_phase.NumericalPhase._advance_fused`);
 * the samples at the requested times and the phase start (``_Run._record``: q, q',
   lambda_N, lambda_T, modes and the cumulative input, viscous and friction work from the
@@ -118,8 +119,9 @@ def _time_tol(j, i, t, h, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, 
 def _first_event(j, ta, tb, g_prev, GI, scale, first, TA, TB, YOLD, FF, modes, sigma, par,
                  kinds, contacts, lim, sgn, vel, rtol, fired):
     """:func:`fricdamp.solvers.event_phase.first_event` on the samples of step j (its start
-    and quarter points) with ``refine_root`` and ``_time_tol``. Returns (code, t): code -1
-    no event, 0 an event at t (``fired`` marks the grouped functions), 1 immediate."""
+    and quarter points) with ``refine_root``, ``dip_search`` and ``_time_tol``. Returns
+    (code, t): code -1 no event, 0 an event at t (``fired`` marks the grouped functions), 1
+    immediate."""
     nev = kinds.size
     tt = np.empty(5)
     tt[0] = ta
@@ -140,15 +142,34 @@ def _first_event(j, ta, tb, g_prev, GI, scale, first, TA, TB, YOLD, FF, modes, s
         if imm:
             return 1, ta
     roots = np.full(nev, np.inf)
+    # dip windows (dip_windows): searched with the interval they start in
+    nw = np.zeros(nev, dtype=np.int64)
+    WA = np.empty((nev, 5), dtype=np.int64)
+    WB = np.empty((nev, 5), dtype=np.int64)
+    v5 = np.empty(5)
+    for e in range(nev):
+        for c in range(5):
+            v5[c] = Gs[e, c]
+        nw[e] = dip_windows(v5, first and Gs[e, 0] <= 2 * tol[e], WA[e], WB[e])
     for jj in range(4):
         anyroot = False
         for i in range(nev):
-            if not Gs[i, jj] > 0:
+            if not (Gs[i, jj] > 0 and np.isinf(roots[i])):
                 continue
             if Gs[i, jj + 1] <= 0:
                 roots[i] = refine_root(j, i, tt[jj], tt[jj + 1], tt[jj + 1] - tt[jj], tol[i],
                                        TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts,
                                        lim, sgn, vel)
+            for w in range(nw[i]):
+                a = WA[i, w]
+                if a != jj or not np.isinf(roots[i]):
+                    continue
+                tm = dip_search(j, i, tt[a], tt[WB[i, w]], tol[i], TA, TB, YOLD, FF, modes,
+                                sigma, par, kinds, contacts, lim, sgn, vel)
+                if not np.isnan(tm):
+                    roots[i] = refine_root(j, i, tt[a], tm, tt[jj + 1] - tt[jj], tol[i], TA,
+                                           TB, YOLD, FF, modes, sigma, par, kinds, contacts,
+                                           lim, sgn, vel)
         ib = -1
         best = np.inf
         for i in range(nev):
@@ -157,7 +178,7 @@ def _first_event(j, ta, tb, g_prev, GI, scale, first, TA, TB, YOLD, FF, modes, s
                 if roots[i] < best:
                     best = roots[i]
                     ib = i
-        if anyroot:
+        if anyroot and (best <= tt[jj + 1] or jj == 3):
             w0 = 1e3 * _EPS * max(abs(best), tt[jj + 1] - tt[jj])
             window = np.full(nev, w0)
             h = tb - ta
