@@ -128,7 +128,7 @@ def jenkins_harmonic_kernel(U, kt, fs, w0, syn, synT, anaT, PS, PA, max_periods,
     return jenkins_harmonic_step(U, kt, fs, w0, syn, synT, anaT, PS.reshape(N + 1, m * m),
                                  PA, max_periods, jacobian, F, Jb.reshape(nb, m * m if nb else 0),
                                  u_t, f_t, w_out, np.empty(N, np.int64), np.empty(N),
-                                 np.empty(m))
+                                 np.empty(anaT.shape[1]))
 
 
 @njit(cache=True, nogil=True)
@@ -136,13 +136,14 @@ def jenkins_harmonic_step(U, kt, fs, w0, syn, synT, anaT, PS, PA, max_periods, j
                           F, Jb, u_t, f_t, w_out, anchor, u, fc):  # pragma: no cover
     """The AFT step of Jenkins elements from coefficients, all contacts in one call.
 
-    Allocation-free (the work arrays anchor (N,) int64, u (N,) and fc (m,) are passed):
+    Allocation-free (the work arrays anchor (N,) int64, u (N,) and fc (mp,) are passed):
     loading its cached machine code then needs none of numba's array-allocation modules
     (``numba.np.arrayobj`` and the ~10 modules it imports, ~0.06 s of CPU in a fresh
     process). PS and Jb come as flat rows: (N+1, m*m) and (n_c, m*m) (or (0, 1)).
 
     U: (n_c, m) displacement coefficients; syn (N, m) the synthesis, synT its transpose
-    and anaT (N, m) the transposed analysis (C-contiguous); PS (N+1, m*m), PA (N+1, m)
+    and anaT (N, mp) the transposed analysis (C-contiguous; mp >= m, the columns from m on
+    zero: :func:`_prefix_sums` pads them to a multiple of 4); PS (N+1, m*m), PA (N+1, m)
     prefix sums over the samples of ``ana[:, i] syn[i, :]`` and
     ``ana[:, i]``. Writes the samples u_t, f_t (n_c, N), the force coefficients F (n_c, m),
     the Jacobian blocks Jb (n_c, m*m) if ``jacobian`` and the periodic start states w_out.
@@ -155,6 +156,7 @@ def jenkins_harmonic_step(U, kt, fs, w0, syn, synT, anaT, PS, PA, max_periods, j
     """
     nc, m = U.shape
     N = syn.shape[0]
+    mp = anaT.shape[1]
     worst = 0
     conv = True
     for c in range(nc):
@@ -208,12 +210,13 @@ def jenkins_harmonic_step(U, kt, fs, w0, syn, synT, anaT, PS, PA, max_periods, j
             conv = False
         if abs(got) > worst:
             worst = abs(got)
-        # F[c] = ana @ f, as sums over the samples in order, vectorised over h
-        for h in range(m):
+        # F[c] = ana @ f, as sums over the samples in order, vectorised over h (anaT's
+        # rows may be padded with zeros to whole SIMD vectors: no scalar remainder)
+        for h in range(mp):
             fc[h] = 0.0
         for i in range(N):
             fi = ft[i]
-            for h in range(m):
+            for h in range(mp):
                 fc[h] += anaT[i, h] * fi
         for h in range(m):
             F[c, h] = fc[h]
@@ -250,7 +253,8 @@ _PREFIX: list[tuple[np.ndarray, ...]] = []
 
 def _prefix_sums(syn: np.ndarray, ana: np.ndarray) -> tuple[np.ndarray, ...]:
     """``PS[i] = sum_{i' < i} ana[:, i'] syn[i', :]`` (N+1, m, m), ``PA[i] = sum ana[:, i']``
-    and the C-contiguous transposes of ``syn`` and ``ana``."""
+    and the C-contiguous transposes of ``syn`` and ``ana`` (the latter's rows padded with
+    zeros to a multiple of 4: (N, mp))."""
     for s, a, *out in _PREFIX:
         if s is syn and a is ana and not (s.flags.writeable or a.flags.writeable):
             return out                  # the same read-only arrays (a HarmonicBasis)
@@ -264,7 +268,9 @@ def _prefix_sums(syn: np.ndarray, ana: np.ndarray) -> tuple[np.ndarray, ...]:
     np.cumsum(ana.T, axis=0, out=PA[1:])
     keep = (syn, ana) if not (syn.flags.writeable or ana.flags.writeable) else (
         syn.copy(), ana.copy())
-    out = (PS, PA, np.ascontiguousarray(syn.T), np.ascontiguousarray(ana.T))
+    anaT = np.zeros((N, -(-m // 4) * 4))     # rows padded to whole SIMD vectors
+    anaT[:, :m] = ana.T
+    out = (PS, PA, np.ascontiguousarray(syn.T), anaT)
     _PREFIX.insert(0, (*keep, *out))
     del _PREFIX[4:]
     return out

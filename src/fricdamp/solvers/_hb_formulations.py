@@ -455,16 +455,17 @@ class _Full:
             ana = np.ascontiguousarray(s.basis.analysis, dtype=float)
             N, m = syn.shape
             nc = s.n_rows
+            pre = _prefix_sums(syn, ana)
             st = dict(
                 step=jenkins_harmonic_step,
                 kt=np.ascontiguousarray(np.concatenate([c.law.stiffness for c in s.contacts]),
                                         dtype=float),
                 fs=np.ascontiguousarray(np.concatenate([c.law.slip_force
                                                         for c in s.contacts]), dtype=float),
-                w0=np.zeros(nc), syn=syn, pre=_prefix_sums(syn, ana),
+                w0=np.zeros(nc), syn=syn, pre=pre,
                 U=np.empty((nc, m)), F=np.empty((nc, m)), Jb=np.empty((nc, m, m)),
                 u_t=np.empty((nc, N)), f_t=np.empty((nc, N)), w=np.empty(nc),
-                anchor=np.empty(N, np.int64), u=np.empty(N), fc=np.empty(m),
+                anchor=np.empty(N, np.int64), u=np.empty(N), fc=np.empty(pre[3].shape[1]),
                 X=np.empty((s.n, s.nh)), r=np.empty((s.n, s.nh)), drf=np.empty(s.n * s.nh))
             st["xf"] = st["X"].reshape(-1)          # flat views of the same buffers
             st["rf"] = st["r"].reshape(-1)
