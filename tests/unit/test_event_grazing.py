@@ -24,7 +24,7 @@ from fricdamp.structure.system import HarmonicLoad, MechanicalSystem
 
 
 def _no_dip_search(monkeypatch):
-    monkeypatch.setattr(event_phase, "dip_windows", lambda v, sits=False: [])
+    monkeypatch.setattr(event_phase, "dip_windows", lambda v, tol, sits=False: [])
 
 
 def _events(res):
@@ -104,15 +104,19 @@ def test_dip_windows_trigger():
     far from its threshold, monotone, flat at round-off, or at zero at the phase start."""
     t = np.linspace(0.0, 1.0, 5)
     dip = 1.0 - np.cos(2.0 * (t - 0.6))  # minimum between samples 2 and 3
-    assert event_phase.dip_windows(dip + 1e-6) == [(1, 3)]
-    assert event_phase.dip_windows(dip + 1.0) == []  # far above: cannot dip below zero
-    assert event_phase.dip_windows(1.0 + t) == []
-    assert event_phase.dip_windows(np.full(5, 1e-14)) == []
+    tol = 1e-14
+    assert event_phase.dip_windows(dip + 1e-6, tol) == [(1, 3)]
+    assert event_phase.dip_windows(dip + 1.0, tol) == []  # far above: cannot dip below zero
+    assert event_phase.dip_windows(1.0 + t, tol) == []
+    assert event_phase.dip_windows(np.full(5, 1e-14), tol) == []
+    noise = 1e-14 * np.array([1.0, 0.2, 1.1, 0.3, 0.9])  # curved by round-off only
+    assert event_phase.dip_windows(noise, 2e-14) == []
+    assert event_phase.dip_windows(noise, 1e-15) == [(0, 2), (2, 4)]
     rising = 1e-16 + t ** 2
-    assert event_phase.dip_windows(rising) == [(0, 1)]
-    assert event_phase.dip_windows(rising, sits=True) == []
+    assert event_phase.dip_windows(rising, tol) == [(0, 1)]
+    assert event_phase.dip_windows(rising, tol, sits=True) == []
     falling = (1.0 - t) ** 2 + 1e-9  # a local minimum at the step's end
-    assert event_phase.dip_windows(falling) == [(3, 4)]
+    assert event_phase.dip_windows(falling, tol) == [(3, 4)]
 
 
 def test_dip_search_finds_a_point_below_zero():
@@ -158,3 +162,48 @@ def test_blade_damper_slip_onset_dip_caught_by_every_path(monkeypatch):
     assert run(3.7178965153871 * (1 - 1e-5)).events == ()
     _no_dip_search(monkeypatch)
     assert run(amplitude, compiled_phases=False).events == ()
+
+
+def test_compiled_dip_kernels_equal_python():
+    """The blade damper's compiled ``dip_windows`` and ``dip_search`` are the Python ones
+    operation for operation: the same windows on random samples, the same point below the
+    threshold (bit for bit) on the dense output of a stuck phase's steps."""
+    from fricdamp.models import BladeDamperParameters, BladeDamperSystem
+    from fricdamp.solvers.event_phase import NumericalPhase
+    from fricdamp.solvers.event_switch import Evaluator
+
+    s = BladeDamperSystem(BladeDamperParameters(excitation_amplitude=8.0,
+                                                excitation_frequency=58.0))
+    ev = Evaluator(s)
+    ck = ev.compiled
+    mod = ck.mod
+    rng = np.random.default_rng(14)
+    wa, wb = np.empty(5, dtype=np.int64), np.empty(5, dtype=np.int64)
+    t5 = np.linspace(0.0, 1.0, 5)
+    for _ in range(3000):
+        v = (rng.uniform(-0.1, 1.0) + rng.uniform(-1.0, 1.0) * (t5 - rng.uniform(-0.5, 1.5)) ** 2
+             + rng.choice([0.0, 1e-3]) * rng.standard_normal(5))
+        tol = rng.choice([1e-14, 1e-3])
+        for sits in (False, True):
+            n = mod.dip_windows(v, tol, sits, wa, wb)
+            assert [(int(a), int(b)) for a, b in zip(wa[:n], wb[:n], strict=True)] == \
+                event_phase.dip_windows(v, tol, sits)
+    q0 = s.static_equilibrium().q
+    ph = NumericalPhase(ev, [0, 0], [1.0, 1.0], 0.0, q0, np.zeros(7), 1e-8, 1e-12, 1e-4)
+    ph.advance(0.01)
+    args = (ph._TA, ph._TB, ph._YOLD, ph._FF, ph._modes_c, ph.sigma, ph._kinds_c,
+            ph._contacts_c, ph._lim_c, ph._sgn_c, ph.vel_scale)
+    n_found = 0
+    for j in range(0, ph._m, 3):
+        ta, tb = float(ph._TA[j]), float(ph._TB[j])
+        for i in range(ph.kinds.size):
+            def g(t, i=i, j=j):
+                return ck.refine_value(j, i, t, *args)
+            ts = np.linspace(ta, tb, 9)
+            gs = np.array([g(t) for t in ts])
+            for shift in (-gs.min() - 1e-3 * np.ptp(gs), -gs.min() + 1e-1 * np.ptp(gs)):
+                a = ck.dip_search(j, i, ta, tb, shift, *args)
+                b = event_phase.dip_search(lambda t, g=g, shift=shift: g(t) + shift, ta, tb)
+                assert (np.isnan(a) and b is None) or a == b
+                n_found += b is not None
+    assert n_found > 5

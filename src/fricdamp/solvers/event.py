@@ -19,7 +19,11 @@ The phase ends at the first event (000 (45)-(46)):
   are plastic and close the contact).
 
 The event is located by Brent's method to round-off; the right end of the final bracket
-(where the event function is already non-positive) starts the next phase. Events of several
+(where the event function is already non-positive) starts the next phase. A function that
+dips below zero and back between two samples (grazing: a friction reserve touching the limit,
+a slip velocity nearly stopping) is found from its derivative in exact phases and, in DOP853
+phases, by a search of the dense output wherever the samples show a small local minimum
+(:func:`~fricdamp.solvers.event_phase.dip_windows`). Events of several
 contacts within round-off of each other are one event. The new configuration of all contacts
 with zero slip velocity is decided together by the friction complementarity problem
 (Lemke's method, :func:`~fricdamp.solvers.event_switch.solve_friction_lcp`), with a

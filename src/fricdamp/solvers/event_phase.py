@@ -34,7 +34,8 @@ the minimum lies at most d/2 from the nearer sample, so it is at most ``max|g''|
 below it, while the second differences are ``g'' d^2`` at their centres: the trigger leaves a
 factor 8 for the variation of g'' over the step. A local minimum is a small fraction of the
 function's amplitude A below the samples (``c <= A (w_max d)^2 <= A (pi/16)^2``, 4 %), so only
-samples within a few per cent of the threshold start a search. At the start of a phase, a
+samples within a few per cent of the threshold start a search (and none where the second
+differences are at round-off: the dip could then be no deeper). At the start of a phase, a
 function that sits at zero (a contact that just switched, set slipping or stuck by a
 consistent decision, so moving away from its limit) is not searched at the phase start.
 The search (:func:`dip_search`) is Brent's bounded minimisation (golden section with
@@ -146,13 +147,15 @@ DIP_XATOL = 1e-5
 _DIP_MAXFUN = 100
 
 
-def dip_windows(v, sits=False):
+def dip_windows(v, tol, sits=False):
     """Sample windows to search for a dip of one event function (see the module docstring).
 
     Parameters
     ----------
     v : sequence of 5 floats
         The function plus its round-off level at a step's start and quarter points.
+    tol : float
+        Its round-off level.
     sits : bool
         The step starts the phase and the function sits at zero there (``v[0] <= 2 tol``):
         its start is not a candidate.
@@ -162,12 +165,15 @@ def dip_windows(v, sits=False):
     list of (a, b)
         Sample indices bounding each window: ``(k - 1, k + 1)`` around a local minimum
         ``v[k]`` of the samples with ``0 < v[k] <= c`` (c the largest |second difference|),
-        clipped to ``[0, 4]`` at the ends of the step. Empty unless ``c`` exceeds the
-        round-off level (``v`` varies by more than ``tol``: then the function sits at zero).
+        clipped to ``[0, 4]`` at the ends of the step. Empty unless ``c`` exceeds ``tol``:
+        a function whose samples curve by round-off can fall at most ``c / 8`` below them,
+        a fraction of round-off.
     """
     c = max(abs(v[0] - 2.0 * v[1] + v[2]), abs(v[1] - 2.0 * v[2] + v[3]),
             abs(v[2] - 2.0 * v[3] + v[4]))
     out = []
+    if not c > tol:
+        return out
     for k in range(5):
         if not (0.0 < v[k] <= c):
             continue
@@ -314,7 +320,7 @@ def first_event(tt, G, gi, tol, first, GD=None, gdi=None, time_tol=None, refine=
             def dip(i, a, b, tol_i):
                 return dip_search(lambda t: gi(i, t) + tol_i, a, b)
         for i in range(G.shape[0]):
-            windows[i] = dip_windows(Gs[i], first and Gs[i, 0] <= 2 * tol[i])
+            windows[i] = dip_windows(Gs[i], tol[i], first and Gs[i, 0] <= 2 * tol[i])
     for j in range(tt.size - 1):
         for i in range(G.shape[0]):
             g = Gs[i]

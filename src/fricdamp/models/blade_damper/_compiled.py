@@ -622,13 +622,15 @@ def refine_root(j, i, ta, tb, h_scale, tol_i, TA, TB, YOLD, FF, modes, sigma, pa
 
 
 @njit(cache=True)
-def dip_windows(v, sits, wa, wb):
+def dip_windows(v, tol, sits, wa, wb):
     """:func:`fricdamp.solvers.event_phase.dip_windows` on the five samples v (the function
-    plus its round-off level): the windows' first and last sample indices into wa, wb;
+    plus its round-off level tol): the windows' first and last sample indices into wa, wb;
     returns their number."""
     c = max(abs(v[0] - 2.0 * v[1] + v[2]), abs(v[1] - 2.0 * v[2] + v[3]),
             abs(v[2] - 2.0 * v[3] + v[4]))
     n = 0
+    if not c > tol:
+        return n
     for k in range(5):
         if not (0.0 < v[k] <= c):
             continue
@@ -909,7 +911,8 @@ def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, conta
                         flag = True
                     prev = cur
                     v5[c + 1] = cur
-                if not flag and dip_windows(v5, first and v5[0] <= 2.0 * tol, wa, wb) > 0:
+                if not flag and dip_windows(v5, tol, first and v5[0] <= 2.0 * tol, wa,
+                                            wb) > 0:
                     flag = True
         stats[0] = t
         stats[1] = h_abs

@@ -150,7 +150,7 @@ def _first_event(j, ta, tb, g_prev, GI, scale, first, TA, TB, YOLD, FF, modes, s
     for e in range(nev):
         for c in range(5):
             v5[c] = Gs[e, c]
-        nw[e] = dip_windows(v5, first and Gs[e, 0] <= 2 * tol[e], WA[e], WB[e])
+        nw[e] = dip_windows(v5, tol[e], first and Gs[e, 0] <= 2 * tol[e], WA[e], WB[e])
     for jj in range(4):
         anyroot = False
         for i in range(nev):
