@@ -799,7 +799,7 @@ class BlockLU:
 
     __slots__ = ("n", "indptr", "indices", "nB", "bsz", "ld", "bnew", "sperm", "Lp", "Li", "Up",
                  "Ui", "Loff", "Uoff", "Doff", "size", "pstart", "amap", "threshold", "ok",
-                 "failures", "calls")
+                 "failures", "calls", "_work")
 
     def __init__(self, A, block_size: int, threshold: float = 1e-3):
         n = A.shape[0]
@@ -876,6 +876,10 @@ class BlockLU:
         self.amap = np.empty(self.indices.size, np.int64)
         _entry_map(self.indptr, self.indices, blk, pos, start.astype(np.int64), ld, Lp, Li,
                    Up, Ui, Loff, Uoff, Doff, nB, self.amap, np.empty(nB, np.int64))
+        # work arrays of the factorisation kernel (block positions, panel rows, growth),
+        # kept: nothing in them outlives a call (one factorisation at a time per analysis)
+        m = int(ld.max()) if nB else 0
+        self._work = (np.empty(nB, np.int64), np.empty(m * (m + 4)), np.empty(3))
 
     def matches(self, A) -> bool:
         return (A.shape[0] == self.n and A.indices.size == self.indices.size
@@ -888,18 +892,17 @@ class BlockLU:
         if not self.ok:
             return None
         self.calls += 1
-        m = int(self.ld.max())
         S = np.empty(self.size)
-        stats = np.empty(3)
         piv = np.empty(self.n, np.int64)
+        where, work, stats = self._work
         status = _block_numeric(np.ascontiguousarray(data, dtype=float), self.amap, self.nB,
                                 self.bsz, self.ld, self.Lp, self.Li, self.Up, self.Ui, self.Loff,
                                 self.Uoff, self.Doff, S, piv, self.pstart, self.threshold,
-                                np.empty(self.nB, np.int64), np.empty(m * (m + 4)), stats)
+                                where, work, stats)
         if status != 0:
             self.failures += 1
             return None
-        l_max, u_max, a_max = (float(v) for v in stats)
+        l_max, u_max, a_max = stats.tolist()
         return BlockFactors(self, S, piv, l_max * u_max / a_max
                             if math.isfinite(l_max) and a_max > 0 else math.inf)
 
