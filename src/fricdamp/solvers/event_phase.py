@@ -39,7 +39,7 @@ differences are at round-off: the dip could then be no deeper). At the start of 
 function that sits at zero (a contact that just switched, set slipping or stuck by a
 consistent decision, so moving away from its limit) is not searched at the phase start.
 The search (:func:`dip_search`) is Brent's bounded minimisation (golden section with
-parabolic steps, :func:`scipy.optimize.fminbound`'s algorithm) of the event function on the
+parabolic steps, Brent's ``localmin``) of the event function on the
 step's dense output over the two sample intervals around the local minimum (one at the ends
 of the step), the location to 1e-5 of that window (the minimum's value to ``2e-10 c`` or
 better), stopped as soon as a point below the threshold is found; the event then fires at
@@ -186,78 +186,80 @@ def dip_windows(v, tol, sits=False):
 def dip_search(g, ta, tb):
     """A time in [ta, tb] where ``g <= 0``, or None: Brent's bounded minimisation of g.
 
-    :func:`scipy.optimize.fminbound`'s algorithm (golden section and parabolic steps) on the
+    Brent's ``localmin`` (Brent, Algorithms for Minimization without Derivatives, 1973,
+    ch. 5: golden section and parabolic steps, in his notation x, w, v for the best, second
+    and previous second point; the algorithm of :func:`scipy.optimize.fminbound`) on the
     window mapped to [0, 1], location tolerance ``DIP_XATOL`` (1e-5 of the window), stopped at
     the first point with ``g <= 0``. The blade damper's compiled ``dip_search`` is the same
     algorithm operation for operation.
     """
-    w = tb - ta
+    span = tb - ta
 
-    def f(x):
-        return g(ta + x * w)
+    def f(u):
+        return g(ta + u * span)
 
-    sqrt_eps = np.sqrt(2.2e-16)
-    golden_mean = 0.5 * (3.0 - np.sqrt(5.0))
+    eps_sqrt = np.sqrt(2.2e-16)
+    gold = 0.5 * (3.0 - np.sqrt(5.0))
     a, b = 0.0, 1.0
-    fulc = a + golden_mean * (b - a)
-    nfc, xf = fulc, fulc
-    rat = e = 0.0
-    fx = f(xf)
+    v = a + gold * (b - a)
+    w, x = v, v
+    d = e = 0.0
+    fx = f(x)
     if fx <= 0:
-        return ta + xf * w
-    num = 1
-    ffulc = fnfc = fx
-    xm = 0.5 * (a + b)
-    tol1 = sqrt_eps * abs(xf) + DIP_XATOL / 3.0
+        return ta + x * span
+    n_eval = 1
+    fv = fw = fx
+    mid = 0.5 * (a + b)
+    tol1 = eps_sqrt * abs(x) + DIP_XATOL / 3.0
     tol2 = 2.0 * tol1
-    while abs(xf - xm) > tol2 - 0.5 * (b - a) and num < _DIP_MAXFUN:
+    while abs(x - mid) > tol2 - 0.5 * (b - a) and n_eval < _DIP_MAXFUN:
         golden = True
         if abs(e) > tol1:
             golden = False
-            r = (xf - nfc) * (fx - ffulc)
-            q = (xf - fulc) * (fx - fnfc)
-            p = (xf - fulc) * q - (xf - nfc) * r
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p = (x - v) * q - (x - w) * r
             q = 2.0 * (q - r)
             if q > 0.0:
                 p = -p
             q = abs(q)
             r = e
-            e = rat
-            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
-                rat = (p + 0.0) / q
-                x = xf + rat
-                if (x - a) < tol2 or (b - x) < tol2:
-                    rat = tol1 * (1.0 if xm >= xf else -1.0)
+            e = d
+            if abs(p) < abs(0.5 * q * r) and p > q * (a - x) and p < q * (b - x):
+                d = p / q
+                u = x + d
+                if (u - a) < tol2 or (b - u) < tol2:
+                    d = tol1 * (1.0 if mid >= x else -1.0)
             else:
                 golden = True
         if golden:
-            e = (a - xf) if xf >= xm else (b - xf)
-            rat = golden_mean * e
-        x = xf + (1.0 if rat >= 0 else -1.0) * max(abs(rat), tol1)
-        fu = f(x)
-        num += 1
+            e = (a - x) if x >= mid else (b - x)
+            d = gold * e
+        u = x + (1.0 if d >= 0 else -1.0) * max(abs(d), tol1)
+        fu = f(u)
+        n_eval += 1
         if fu <= 0:
-            return ta + x * w
+            return ta + u * span
         if fu <= fx:
-            if x >= xf:
-                a = xf
-            else:
-                b = xf
-            fulc, ffulc = nfc, fnfc
-            nfc, fnfc = xf, fx
-            xf, fx = x, fu
-        else:
-            if x < xf:
+            if u >= x:
                 a = x
             else:
                 b = x
-            if fu <= fnfc or nfc == xf:
-                fulc, ffulc = nfc, fnfc
-                nfc, fnfc = x, fu
-            elif fu <= ffulc or fulc == xf or fulc == nfc:
-                fulc, ffulc = x, fu
-        xm = 0.5 * (a + b)
-        tol1 = sqrt_eps * abs(xf) + DIP_XATOL / 3.0
+            v, fv = w, fw
+            w, fw = x, fx
+            x, fx = u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu <= fw or w == x:
+                v, fv = w, fw
+                w, fw = u, fu
+            elif fu <= fv or v == x or v == w:
+                v, fv = u, fu
+        mid = 0.5 * (a + b)
+        tol1 = eps_sqrt * abs(x) + DIP_XATOL / 3.0
         tol2 = 2.0 * tol1
     return None
 

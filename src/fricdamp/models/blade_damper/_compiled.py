@@ -647,87 +647,87 @@ def dip_search(j, i, ta, tb, tol_i, TA, TB, YOLD, FF, modes, sigma, par, kinds, 
                sgn, vel):
     """A time in [ta, tb] where event function i plus tol_i is <= 0 on the dense output of
     step j, or NaN: :func:`fricdamp.solvers.event_phase.dip_search` (Brent's bounded
-    minimisation, fminbound's algorithm, window mapped to [0, 1], location to 1e-5 of the
+    minimisation, Brent's localmin, window mapped to [0, 1], location to 1e-5 of the
     window, stopped at the first point <= 0), operation for operation."""
     ytmp = np.empty(_NY)
     g = np.empty(kinds.size)
     s = np.empty(kinds.size)
-    w = tb - ta
+    span = tb - ta
     xatol = 1e-5
-    sqrt_eps = np.sqrt(2.2e-16)
-    golden_mean = 0.5 * (3.0 - np.sqrt(5.0))
+    eps_sqrt = np.sqrt(2.2e-16)
+    gold = 0.5 * (3.0 - np.sqrt(5.0))
     a = 0.0
     b = 1.0
-    fulc = a + golden_mean * (b - a)
-    nfc = fulc
-    xf = fulc
-    rat = 0.0
+    v = a + gold * (b - a)
+    w = v
+    x = v
+    d = 0.0
     e = 0.0
-    fx = _g_at(ta + xf * w, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
+    fx = _g_at(ta + x * span, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
                sgn, vel, tol_i, ytmp, g, s)
     if fx <= 0:
-        return ta + xf * w
-    num = 1
-    ffulc = fx
-    fnfc = fx
-    xm = 0.5 * (a + b)
-    tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+        return ta + x * span
+    n_eval = 1
+    fv = fx
+    fw = fx
+    mid = 0.5 * (a + b)
+    tol1 = eps_sqrt * abs(x) + xatol / 3.0
     tol2 = 2.0 * tol1
-    while abs(xf - xm) > tol2 - 0.5 * (b - a) and num < 100:
+    while abs(x - mid) > tol2 - 0.5 * (b - a) and n_eval < 100:
         golden = True
         if abs(e) > tol1:
             golden = False
-            r = (xf - nfc) * (fx - ffulc)
-            q = (xf - fulc) * (fx - fnfc)
-            p = (xf - fulc) * q - (xf - nfc) * r
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p = (x - v) * q - (x - w) * r
             q = 2.0 * (q - r)
             if q > 0.0:
                 p = -p
             q = abs(q)
             r = e
-            e = rat
-            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
-                rat = (p + 0.0) / q
-                x = xf + rat
-                if (x - a) < tol2 or (b - x) < tol2:
-                    rat = tol1 * (1.0 if xm >= xf else -1.0)
+            e = d
+            if abs(p) < abs(0.5 * q * r) and p > q * (a - x) and p < q * (b - x):
+                d = p / q
+                u = x + d
+                if (u - a) < tol2 or (b - u) < tol2:
+                    d = tol1 * (1.0 if mid >= x else -1.0)
             else:
                 golden = True
         if golden:
-            e = (a - xf) if xf >= xm else (b - xf)
-            rat = golden_mean * e
-        x = xf + (1.0 if rat >= 0 else -1.0) * max(abs(rat), tol1)
-        fu = _g_at(ta + x * w, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
+            e = (a - x) if x >= mid else (b - x)
+            d = gold * e
+        u = x + (1.0 if d >= 0 else -1.0) * max(abs(d), tol1)
+        fu = _g_at(ta + u * span, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
                    sgn, vel, tol_i, ytmp, g, s)
-        num += 1
+        n_eval += 1
         if fu <= 0:
-            return ta + x * w
+            return ta + u * span
         if fu <= fx:
-            if x >= xf:
-                a = xf
-            else:
-                b = xf
-            fulc = nfc
-            ffulc = fnfc
-            nfc = xf
-            fnfc = fx
-            xf = x
-            fx = fu
-        else:
-            if x < xf:
+            if u >= x:
                 a = x
             else:
                 b = x
-            if fu <= fnfc or nfc == xf:
-                fulc = nfc
-                ffulc = fnfc
-                nfc = x
-                fnfc = fu
-            elif fu <= ffulc or fulc == xf or fulc == nfc:
-                fulc = x
-                ffulc = fu
-        xm = 0.5 * (a + b)
-        tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+            v = w
+            fv = fw
+            w = x
+            fw = fx
+            x = u
+            fx = fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu <= fw or w == x:
+                v = w
+                fv = fw
+                w = u
+                fw = fu
+            elif fu <= fv or v == x or v == w:
+                v = u
+                fv = fu
+        mid = 0.5 * (a + b)
+        tol1 = eps_sqrt * abs(x) + xatol / 3.0
         tol2 = 2.0 * tol1
     return np.nan
 
