@@ -345,10 +345,11 @@ class _Factor:
     #: Dense-block factors whose element growth ``max |L| max |U| / max |A|`` is at most
     #: this skip the residual check: their backward error (~ n eps growth max |A|, the
     #: bound of partial pivoting with its own growth) is that of the partial-pivoting
-    #: refactorisation the check would fall back to. Ring of 30 and 480 Jenkins contacts:
-    #: growth 0.7-10, residuals 1e-16-2e-14 of |b| (the check asks 1e-8); a pivot kept by
-    #: the threshold rule against larger entries below it (multipliers up to 1e3) is what
-    #: raises the growth, and the residual is then checked.
+    #: refactorisation the check would fall back to. Rings of 30 and 480 Jenkins contacts
+    #: (all 1,761 factorisations of their default and fine curves): growth 1.0-44, median
+    #: 1.0-1.5; residuals of sampled solves 1e-16-2e-14 of |b| (the check asks 1e-8). A
+    #: pivot kept by the threshold rule against larger entries below it (multipliers up to
+    #: 1e3) is what raises the growth, and the residual is then checked.
     GROWTH_UNCHECKED = 1e2
 
     def _check(self, b, x):
