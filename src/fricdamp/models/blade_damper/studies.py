@@ -1043,8 +1043,9 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
         over the processes first (the lightest dampers, whose responses beat and cost the
         most, first), then the brackets; each process limits BLAS to one thread. The results
         are the same as with ``workers=1`` (each design is computed from the same start).
-        The paper-size grid (5 masses x 6 angles x 3 parabolas) takes about 5-6 minutes on
-        2 cores (benchmarks/bench_blade_damper.py ``--grid``).
+        The paper-size grid (5 masses x 6 angles x 3 parabolas and the bisections) costs
+        875-950 s of CPU, about 8 minutes on 2 idle cores (benchmarks/bench_blade_damper.py
+        ``--grid``).
 
     Returns
     -------
