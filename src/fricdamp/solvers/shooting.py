@@ -951,6 +951,9 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
     n = int(system.n_dof)
     t1 = t0 + nmul * period
     unilateral = bool(np.asarray(system.unilateral_contacts(), dtype=bool).any())
+    # piecewise-linear systems (a linear form, exact phases) keep the full Newton step: their
+    # map is piecewise affine and any trial state is a cheap, exact flow
+    capped = system.linear_form() is None
 
     def evaluate(yy, monodromy=True):
         if monodromy:
@@ -990,12 +993,13 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
         # trial states are far off any motion (a damper rotated by thousands of radians,
         # through singular contact geometry), so the line search starts at that length
         size = float(np.max(np.abs(step) / scale))
-        lam = min(1.0, _MAX_STEP / size) if size > 0 else 1.0
+        lam = min(1.0, _MAX_STEP / size) if (capped and size > 0) else 1.0
         best = None
         for _ in range(10):
             try:
                 trial = evaluate(y + lam * step, monodromy=unilateral)
-            except ConvergenceError:
+            except (ConvergenceError, ZeroDivisionError):
+                # (a compiled kernel's division by zero at a degenerate trial state)
                 trial = None
             except ModelError:
                 # a trial state inside a unilateral stop (penetration): shorten the step
