@@ -36,6 +36,8 @@ from __future__ import annotations
 
 VAR_SRC = '''
 
+from fricdamp.solvers.event_kernels import small_lu_solve
+
 _PADE13 = np.array([64764752532480000.0, 32382376266240000.0, 7771770303897600.0,
                     1187353796428800.0, 129060195264000.0, 10559470521600.0, 670442572800.0,
                     33522128640.0, 1323241920.0, 40840800.0, 960960.0, 16380.0, 182.0, 1.0])
@@ -138,36 +140,11 @@ def expm_pade13(A, E):
         for j in range(n):
             V[i, j] += b[6] * A6[i, j] + b[4] * A4[i, j] + b[2] * A2[i, j]
         V[i, i] += b[0]
-    # (V - U) E = (V + U): Gaussian elimination with partial pivoting, n right-hand sides
+    # (V - U) E = (V + U) by the event solver's small LU (partial pivoting)
+    X, _ = small_lu_solve(V - U, V + U)
     for i in range(n):
         for j in range(n):
-            P = V[i, j] + U[i, j]
-            V[i, j] = V[i, j] - U[i, j]
-            E[i, j] = P
-    for k in range(n):
-        p = k
-        big = abs(V[k, k])
-        for i in range(k + 1, n):
-            if abs(V[i, k]) > big:
-                big = abs(V[i, k])
-                p = i
-        if p != k:
-            for j in range(n):
-                V[k, j], V[p, j] = V[p, j], V[k, j]
-                E[k, j], E[p, j] = E[p, j], E[k, j]
-        for i in range(k + 1, n):
-            fct = V[i, k] / V[k, k]
-            if fct != 0.0:
-                for j in range(k + 1, n):
-                    V[i, j] -= fct * V[k, j]
-                for j in range(n):
-                    E[i, j] -= fct * E[k, j]
-    for k in range(n - 1, -1, -1):
-        for j in range(n):
-            s = E[k, j]
-            for i in range(k + 1, n):
-                s -= V[k, i] * E[i, j]
-            E[k, j] = s / V[k, k]
+            E[i, j] = X[i, j]
     for _ in range(sq):
         _mm(E, E, T)
         for i in range(n):
