@@ -699,10 +699,13 @@ class NumericalPhase:
                                   self._lim_c, self._sgn_c, self.vel_scale)
                 return None if np.isnan(t) else t
 
-            found = first_event(tt, G, gfun, 1e2 * _EPS * self._scale + np.finfo(float).tiny,
-                                stats[3] != 0.0, time_tol=time_tol, refine=refine, dip=dip)
+            found = first_event(tt, G, gfun, self._tol(), stats[3] != 0.0,
+                                time_tol=time_tol, refine=refine, dip=dip)
             if found is not None:
-                return Hit(found[0], found[1], immediate=found[2])
+                t_hit = found[0]
+                if not found[2] and np.all(self.kinds[found[1]] == EV_GAP):
+                    t_hit = self._gap_zero(found[1], t_hit, step)
+                return Hit(t_hit, found[1], immediate=found[2])
             stats[3] = 0.0
             g_prev = np.ascontiguousarray(GI[:, -1])
             if tb >= t_end:

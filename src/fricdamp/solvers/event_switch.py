@@ -123,8 +123,8 @@ class Evaluator:
         res = getattr(system, "restitution_coefficients", None)
         self.restitution = (np.zeros(self.nc) if res is None
                             else np.asarray(res(), dtype=float).copy())
-        if self.unilateral.any():
-            self.compiled = None  # the compiled kernels know no open contacts
+        if self.unilateral.any() and not getattr(self.compiled, "open_contacts", False):
+            self.compiled = None  # these compiled kernels know no open contacts
         #: kernels for the switching and projection solves too (all normals constrained)
         self._fused = (self.compiled if getattr(self.compiled, "fused_phases", False)
                        and self.constrained.all() and hasattr(self.compiled, "solve_point")
@@ -268,7 +268,8 @@ class Evaluator:
         """
         cons = self.constrained & (np.asarray(modes) != OPEN)
         ck = self.compiled
-        if ck is not None and cons.all() and getattr(ck, "fused_phases", False):
+        if ck is not None and getattr(ck, "fused_phases", False) and (
+                cons.all() or (self.constrained.all() and getattr(ck, "open_contacts", False))):
             ok, q_new, qd_new, de = ck.project(q, qd, modes)
             if ok:
                 return q_new, qd_new, de

@@ -199,7 +199,8 @@ class _Linearizer:
         y = np.concatenate(rec.y_pre)
         ck = self.ev.compiled
         if (ck is not None and hasattr(ck, "projection_jacobian") and ck.fused_phases
-                and self.ev.constrained.all() and not (modes == OPEN).any()):
+                and self.ev.constrained.all()
+                and (getattr(ck, "open_contacts", False) or not (modes == OPEN).any())):
             ratio, P = ck.projection_jacobian(y, modes.astype(np.int64))
             if ratio > ck.SINGULAR:  # the same differences in one compiled call
                 return P

@@ -62,6 +62,7 @@ _FE, _RATIO, _PHASE, _OMEGA, _GAMMA, _P1, _P2, _MUS, _MUD = range(112, 121)
 PAR_SIZE = 121
 
 STICK = 0
+OPEN = 3  # event_switch.OPEN: a released contact that lifted off
 
 
 def parameter_vector(system) -> np.ndarray:
@@ -135,11 +136,13 @@ def forces(t, q, qd, par, h):
 def configuration_solve(h, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT):
     """Accelerations and contact forces of one configuration, 000 (37)-(40).
 
-    Both normals are constrained (the gaps stay closed). Unknowns: ``lambda_N`` of both
-    contacts and ``lambda_T`` of the stuck ones. A slipping contact's friction force is
-    ``-mu_sliding sigma_i s_i lambda_N,i`` (``sigma`` the tracked sign of the normal force),
-    so its normal column is ``W_N,i - mu_sliding sigma_i s_i W_T,i``. Returns the pivot ratio
-    of the constraint system (<= 1e-13: singular, outputs undefined).
+    The normals of the closed contacts are constrained (their gaps stay closed); an open
+    contact (mode ``OPEN``, a released damper that lifted off) carries no force. Unknowns:
+    ``lambda_N`` of the closed contacts and ``lambda_T`` of the stuck ones. A slipping
+    contact's friction force is ``-mu_sliding sigma_i s_i lambda_N,i`` (``sigma`` the tracked
+    sign of the normal force), so its normal column is ``W_N,i - mu_sliding sigma_i s_i
+    W_T,i``. Returns the pivot ratio of the constraint system (<= 1e-13: singular, outputs
+    undefined; 1 when no contact is closed).
     """
     mud = par[_MUD]
     # columns of B (force directions) and C (constraint gradients)
@@ -148,6 +151,8 @@ def configuration_solve(h, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT)
     rhs = np.empty(4)
     m = 0
     for i in range(2):
+        if modes[i] == OPEN:
+            continue
         s = 0.0 if modes[i] == STICK else float(modes[i])
         f = mud * sigma[i] * s
         for k in range(7):
@@ -177,18 +182,25 @@ def configuration_solve(h, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT)
             for k in range(7):
                 s += C[k, a] * par[_MINV + k] * B[k, b]
             A[a, b] = s
-    ratio = _lu_solve(A, x, m)
+    ratio = _lu_solve(A, x, m) if m > 0 else 1.0
     for k in range(7):
         s = MiF[k]
         for b in range(m):
             s += par[_MINV + k] * B[k, b] * x[b]
         qdd[k] = s
-    lamN[0], lamN[1] = x[0], x[1]
-    j = 2
+    j = 0
+    for i in range(2):
+        if modes[i] == OPEN:
+            lamN[i] = 0.0
+        else:
+            lamN[i] = x[j]
+            j += 1
     for i in range(2):
         if modes[i] == STICK:
             lamT[i] = x[j]
             j += 1
+        elif modes[i] == OPEN:
+            lamT[i] = 0.0
         else:
             lamT[i] = -mud * float(modes[i]) * abs(lamN[i])
     return ratio
@@ -197,9 +209,9 @@ def configuration_solve(h, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT)
 @njit(cache=True)
 def configuration_solve_given(h, WN, WT, wbN, wbT, modes, sigma, given, par, QDD, LN, LT):
     """:meth:`fricdamp.solvers.event_switch.Evaluator.solve` with GIVEN contacts (mode 2:
-    tangential force prescribed, one column of ``given`` (2, k) per right-hand side) for
-    both normals constrained: ``QDD`` (7, k), ``LN``, ``LT`` (2, k). Returns the pivot ratio
-    (<= 1e-13: singular)."""
+    tangential force prescribed, one column of ``given`` (2, k) per right-hand side) and
+    open contacts (mode ``OPEN``, no force): ``QDD`` (7, k), ``LN``, ``LT`` (2, k). Returns
+    the pivot ratio (<= 1e-13: singular; 1 when no contact is closed)."""
     mud = par[_MUD]
     k = given.shape[1]
     B = np.empty((7, 4))
@@ -207,6 +219,8 @@ def configuration_solve_given(h, WN, WT, wbN, wbT, modes, sigma, given, par, QDD
     rhs = np.empty(4)
     m = 0
     for i in range(2):
+        if modes[i] == OPEN:
+            continue
         s = float(modes[i]) if (modes[i] == 1 or modes[i] == -1) else 0.0
         f = mud * sigma[i] * s
         for r in range(7):
@@ -246,21 +260,28 @@ def configuration_solve_given(h, WN, WT, wbN, wbT, modes, sigma, given, par, QDD
             x[a] = -acc
             for b in range(m):
                 A[a, b] = A0[a, b]
-        worst = min(worst, _lu_solve(A, x, m))
+        if m > 0:
+            worst = min(worst, _lu_solve(A, x, m))
         for r in range(7):
             acc = MiF[r]
             for b in range(m):
                 acc += par[_MINV + r] * B[r, b] * x[b]
             QDD[r, col] = acc
-        LN[0, col] = x[0]
-        LN[1, col] = x[1]
-        j = 2
+        j = 0
+        for i in range(2):
+            if modes[i] == OPEN:
+                LN[i, col] = 0.0
+            else:
+                LN[i, col] = x[j]
+                j += 1
         for i in range(2):
             if modes[i] == STICK:
                 LT[i, col] = x[j]
                 j += 1
             elif modes[i] == 2:
                 LT[i, col] = given[i, col]
+            elif modes[i] == OPEN:
+                LT[i, col] = 0.0
             else:
                 LT[i, col] = -mud * float(modes[i]) * abs(LN[i, col])
     return worst
@@ -285,10 +306,11 @@ def powers(t, qd, WT, lamT, par):
 
 
 @njit(cache=True)
-def event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, scale, vel):
+def event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, scale, vel, q, gap,
+                 WN):
     """Event functions of a configuration (the kinds of :mod:`fricdamp.solvers.event_phase`:
-    0 slip velocity, 1/2 friction reserve at the +/- limit, 3 normal force) and their scales;
-    ``vel`` is raised to ``|W_T|^T |q'|`` per contact."""
+    0 slip velocity, 1/2 friction reserve at the +/- limit, 3 normal force, 4 the gap of an
+    open contact) and their scales; ``vel`` is raised to ``|W_T|^T |q'|`` per contact."""
     gam = np.zeros(2)
     vs = np.zeros(2)
     for i in range(2):
@@ -304,6 +326,12 @@ def event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, scale,
         if kd == 0:
             g[e] = sgn[e] * gam[c]
             scale[e] = vs[c]
+        elif kd == 4:
+            g[e] = gap[c]
+            acc = abs(gap[c])
+            for k in range(7):
+                acc += abs(WN[k, c]) * abs(q[k])
+            scale[e] = acc
         else:
             if kd == 1:
                 g[e] = res - lamT[c]
@@ -425,7 +453,8 @@ def events_many(ts, Y, modes, sigma, par, kinds, contacts, lim, sgn, G, S, vel):
         forces(ts[j], q, qd, par, h)
         r = configuration_solve(h, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT)
         worst = min(worst, r)
-        event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel)
+        event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel, q,
+                     gap, WN)
         G[:, j] = g
         S[:, j] = s
     return worst
@@ -435,7 +464,7 @@ _PHASE_SRC = '''
 
 from scipy.integrate._ivp import dop853_coefficients as _dc
 
-from fricdamp.models.blade_damper._compiled import _MINV, STICK, _lu_solve
+from fricdamp.models.blade_damper._compiled import _MINV, OPEN, STICK, _lu_solve
 
 _NS = 12
 _DA = np.ascontiguousarray(_dc.A, dtype=np.float64)
@@ -532,7 +561,8 @@ def _g_at(t, j, i, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sg
     _kin_state(q, qd, par, gap, WN, WT, wbN, wbT)
     forces(t, q, qd, par, hh)
     configuration_solve(hh, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN, lamT)
-    event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel)
+    event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel, q,
+                     gap, WN)
     return g[i] + tol_i
 
 
@@ -748,6 +778,9 @@ def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, conta
     2 buffers full, 3 step size too small, 4 singular constraint system (generic path).
     """
     nev = kinds.size
+    atol_state = 0.0
+    for k in range(14):
+        atol_state = max(atol_state, atol[k])
     v5 = np.empty(5)
     wa = np.empty(5, dtype=np.int64)
     wb = np.empty(5, dtype=np.int64)
@@ -895,12 +928,15 @@ def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, conta
                 if configuration_solve(hh, WN, WT, wbN, wbT, modes, sigma, par, qdd, lamN,
                                        lamT) <= 1e-13:
                     return 4, m
-                event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel)
+                event_values(WT, qd, lamN, lamT, sigma, kinds, contacts, lim, sgn, g, s, vel, q,
+                     gap, WN)
                 for e in range(nev):
                     GI[e, c] = g[e]
                     scale[e] = max(scale[e], s[e])
             for e in range(nev):
                 tol = 1e2 * 2.220446049250313e-16 * scale[e] + 2.2250738585072014e-308
+                if kinds[e] == 4:  # a gap: its integration error (NumericalPhase._tol)
+                    tol = max(tol, rtol * scale[e] + atol_state)
                 if first and g_prev[e] + tol <= 0.0:
                     flag = True
                 prev = g_prev[e] + tol
@@ -931,9 +967,10 @@ def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, conta
 @njit(cache=True)
 def project(q, qd, modes, par, q_out, qd_out):
     """:meth:`fricdamp.solvers.event_switch.Evaluator.project` for the blade damper: Gauss-Newton
-    (M-weighted) on the two closed normal gaps, then the M-orthogonal projection of q' onto
-    ``W_N^T q' = 0`` and the stuck contacts' ``W_T^T q' = 0``. Returns (pivot ratio,
-    |kinetic energy change|); a ratio <= 1e-13 means use the generic path."""
+    (M-weighted) on the closed normal gaps (an open contact, mode ``OPEN``, is free), then the
+    M-orthogonal projection of q' onto ``W_N^T q' = 0`` of the closed contacts and the stuck
+    contacts' ``W_T^T q' = 0``. Returns (pivot ratio, |kinetic energy change|); a ratio
+    <= 1e-13 means use the generic path."""
     gap = np.empty(2)
     WN = np.empty((7, 2))
     WT = np.empty((7, 2))
@@ -942,42 +979,55 @@ def project(q, qd, modes, par, q_out, qd_out):
     A = np.zeros((4, 4))
     x = np.empty(4)
     W = np.empty((7, 4))
+    closed = np.empty(2, dtype=np.int64)
+    nc = 0
+    for i in range(2):
+        if modes[i] != OPEN:
+            closed[nc] = i
+            nc += 1
     for k in range(7):
         q_out[k] = q[k]
     qmax = 0.0
-    for _ in range(5):
+    for it in range(5 if nc > 0 else 0):
         _kin_state(q_out, qd, par, gap, WN, WT, wbN, wbT)
-        if _ == 0:
-            for k in range(7):
-                qmax = max(qmax, abs(q_out[k]))
-        else:
-            qmax = 0.0
-            for k in range(7):
-                qmax = max(qmax, abs(q_out[k]))
-        if abs(gap[0]) <= 1e-15 * (1 + qmax) and abs(gap[1]) <= 1e-15 * (1 + qmax):
+        qmax = 0.0
+        for k in range(7):
+            qmax = max(qmax, abs(q_out[k]))
+        done = True
+        for a in range(nc):
+            if abs(gap[closed[a]]) > 1e-15 * (1 + qmax):
+                done = False
+        if done:
             break
-        for a in range(2):
-            x[a] = gap[a]
-            for b in range(2):
+        for a in range(nc):
+            x[a] = gap[closed[a]]
+            for b in range(nc):
                 acc = 0.0
                 for k in range(7):
-                    acc += WN[k, a] * par[_MINV + k] * WN[k, b]
+                    acc += WN[k, closed[a]] * par[_MINV + k] * WN[k, closed[b]]
                 A[a, b] = acc
-        if _lu_solve(A, x, 2) <= 1e-13:
+        if _lu_solve(A, x, nc) <= 1e-13:
             return 0.0, 0.0
         for k in range(7):
-            q_out[k] -= par[_MINV + k] * (WN[k, 0] * x[0] + WN[k, 1] * x[1])
+            acc = 0.0
+            for a in range(nc):
+                acc += WN[k, closed[a]] * x[a]
+            q_out[k] -= par[_MINV + k] * acc
     _kin_state(q_out, qd, par, gap, WN, WT, wbN, wbT)
     m = 0
-    for i in range(2):
+    for a in range(nc):
         for k in range(7):
-            W[k, m] = WN[k, i]
+            W[k, m] = WN[k, closed[a]]
         m += 1
     for i in range(2):
         if modes[i] == STICK:
             for k in range(7):
                 W[k, m] = WT[k, i]
             m += 1
+    if m == 0:
+        for k in range(7):
+            qd_out[k] = qd[k]
+        return 1.0, 0.0
     for a in range(m):
         acc = 0.0
         for k in range(7):
@@ -1103,6 +1153,10 @@ class BladeDamperKernels:
         #: the compiled event loop (phases and switches) offered to the event solver
         self.compiled_loop = self.fused_phases and bool(getattr(system, "compiled_loop",
                                                                  True))
+        #: the kernels know open contacts (mode ``OPEN``: a released damper that lifted off;
+        #: the gap events of DOP853 phases); the compiled event loop does not (it is not
+        #: offered for unilateral contacts)
+        self.open_contacts = True
         self._fastloop = None
 
     def kinematics(self, q, u5=0.0):

@@ -534,7 +534,7 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
             cnt[7] = 11
             return 11
         event_values(WT, qdp, lamN, lamT, sigma, kinds, contacts, lim, sgn, g_prev, scale,
-                     vel)
+                     vel, qp, gap, WN)
         for k in range(_NY):
             y[k] = y0[k]
         stats[0] = t0
