@@ -503,6 +503,10 @@ class NumericalPhase:
         rather than after a penetration (which would shift every later bounce). Returns
         ``t_hit`` unchanged if no gap is positive shortly before (a grazing contact).
         """
+        if self._fused and np.size(fired) == 1:
+            t = self._gap_zero_fused(int(np.ravel(fired)[0]), t_hit)
+            if t is not None:
+                return t
         sys_gap = self.ev.system.normal_gap
         c = self.contacts[fired]
 
@@ -515,6 +519,28 @@ class NumericalPhase:
             ta = t_hit - dt
             if gap(ta) > 0:
                 return _refine(gap, ta, t_hit, span)
+            dt *= 4
+        return t_hit
+
+    def _gap_zero_fused(self, i, t_hit):
+        """:meth:`_gap_zero` for one gap event (index i) of a compiled phase: the same search
+        with the compiled event value and Brent on the stored step holding ``t_hit``; None
+        if the search reaches back into an earlier step (the generic search takes it)."""
+        ck, m = self._ck, self._m
+        if m == 0:
+            return None
+        j = int(np.clip(np.searchsorted(self._TA[:m], t_hit, side="right") - 1, 0, m - 1))
+        args = (self._TA, self._TB, self._YOLD, self._FF, self._modes_c, self.sigma,
+                self._kinds_c, self._contacts_c, self._lim_c, self._sgn_c,
+                self.vel_scale.copy())
+        span = t_hit - self.t0
+        dt = 1e-6 * span
+        while dt <= span:
+            ta = t_hit - dt
+            if ta < self._TA[j]:
+                return None
+            if ck.refine_value(j, i, ta, *args) > 0:
+                return float(ck.refine_root(j, i, ta, t_hit, span, 0.0, *args))
             dt *= 4
         return t_hit
 
