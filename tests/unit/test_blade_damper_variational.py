@@ -81,13 +81,9 @@ def test_expm_of_a_rotation_is_exact(system):
     assert np.abs(E - ref).max() <= 1e-13
 
 
-def test_monodromy_compiled_equals_python(system, monkeypatch):
-    f = system.params.excitation_frequency
-    y0 = np.concatenate([system.static_equilibrium().q, np.zeros(7)])
-    r = time_response(system, 6.0, y0=y0).result
-    y = np.concatenate([r.q[-1], r.qd[-1]])
-    t0 = 6.0 / f
-    fast = flow(system, (t0, t0 + 1.0 / f), y, rtol=1e-9)
+def _python_path(monkeypatch) -> dict:
+    """Make the compiled linearisation report "singular", so that the Python path of
+    shooting._Linearizer takes over; returns the counts of refused calls."""
     calls = {"transition": 0, "projection_jacobian": 0}
     for name in calls:
         orig = getattr(BladeDamperKernels, name)
@@ -98,6 +94,17 @@ def test_monodromy_compiled_equals_python(system, monkeypatch):
             out[0] = 0.0  # "singular": the Python path takes over
             return tuple(out)
         monkeypatch.setattr(BladeDamperKernels, name, refuse)
+    return calls
+
+
+def test_monodromy_compiled_equals_python(system, monkeypatch):
+    f = system.params.excitation_frequency
+    y0 = np.concatenate([system.static_equilibrium().q, np.zeros(7)])
+    r = time_response(system, 6.0, y0=y0).result
+    y = np.concatenate([r.q[-1], r.qd[-1]])
+    t0 = 6.0 / f
+    fast = flow(system, (t0, t0 + 1.0 / f), y, rtol=1e-9)
+    calls = _python_path(monkeypatch)
     slow = flow(system, (t0, t0 + 1.0 / f), y, rtol=1e-9)
     assert calls["transition"] >= 3 and calls["projection_jacobian"] >= 3
     assert np.array_equal(fast.y_end, slow.y_end)
@@ -149,16 +156,7 @@ def test_released_monodromy_through_lift_off(monkeypatch):
         fd = (yp - ym) / (2 * dy[j])
         E = np.maximum(E, np.abs(fd - fast.monodromy[:, j]) * scale[j])
     assert np.all(E <= 1e-4 * scale)
-    calls = {"transition": 0, "projection_jacobian": 0}
-    for name in calls:
-        orig = getattr(BladeDamperKernels, name)
-
-        def refuse(self, *a, _name=name, _orig=orig, **k):
-            calls[_name] += 1
-            out = list(_orig(self, *a, **k))
-            out[0] = 0.0  # "singular": the Python path takes over
-            return tuple(out)
-        monkeypatch.setattr(BladeDamperKernels, name, refuse)
+    calls = _python_path(monkeypatch)
     slow = flow(s, (t0, t1), y, rtol=1e-10)
     assert calls["transition"] >= 2 and calls["projection_jacobian"] >= 2
     assert np.array_equal(fast.y_end, slow.y_end)
