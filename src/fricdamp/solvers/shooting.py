@@ -955,13 +955,16 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
     # piecewise-linear systems (a linear form, exact phases) keep the full Newton step: their
     # map is piecewise affine and any trial state is a cheap, exact flow
     capped = system.linear_form() is None
+    # trials with the monodromy, so that an accepted trial is the next iterate as it stands:
+    # with unilateral contacts (whose refusal of grazing and Zeno orbits rejects a trial
+    # point) and for piecewise-linear systems (exact phases: the monodromy is one matrix
+    # exponential per phase, cheaper than integrating the accepted point again)
+    trial_monodromy = unilateral or not capped
 
     def evaluate(yy, monodromy=True):
         if monodromy:
             fl = flow(system, (t0, t1), yy, **kw)
-        else:  # a line-search trial: the flow only (a compiled event loop may take it);
-            # with unilateral contacts the trials keep the monodromy, whose refusal of
-            # grazing and Zeno orbits (ConvergenceError) rejects a trial point
+        else:  # a line-search trial: the flow only (a compiled event loop may take it)
             fl = flow(system, (t0, t1), yy, **{**kw, "monodromy": False,
                                                 "keep_phases": False})
         q, qd = fl.result.q, fl.result.qd
@@ -998,7 +1001,7 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
         best = None
         for _ in range(10):
             try:
-                trial = evaluate(y + lam * step, monodromy=unilateral)
+                trial = evaluate(y + lam * step, monodromy=trial_monodromy)
             except (ConvergenceError, ZeroDivisionError):
                 # (a compiled kernel's division by zero at a degenerate trial state)
                 trial = None
@@ -1017,7 +1020,7 @@ def _newton(system, period, nmul, t0, y, tol, max_iter, kw):
             break
         lam = best[1]
         y = y + lam * step
-        if unilateral:
+        if trial_monodromy:
             fl, r, norm, scale = best[0]
             continue
         # the flow with its monodromy at the accepted point only (the trials' flows were
