@@ -30,6 +30,19 @@ def test_bad_model_exits_2_with_the_key(assert_rejected, model, word):
     assert_rejected(BASE.format(model=model), [word])
 
 
+@pytest.mark.parametrize("keys, words", [
+    ("release = true\nrestitution = 1.5", ["restitution", "<= 1"]),
+    ("release = true\nrestitution = -0.1", ["restitution", ">= 0"]),
+    ('release = "yes"', ["release", "true or false"]),
+    ("restitution = 0.5", ["restitution", "only with release = true"]),
+])
+def test_bad_design_release_keys_exit_2(assert_rejected, keys, words):
+    """``[analysis.damper_design]`` ``release`` (bool) and ``restitution`` (0..1, only with
+    release; issue 14): one-line errors naming the key and its range."""
+    assert_rejected(BASE.format(model="") + "[analysis.damper_design]\n" + keys + "\n",
+                    ["damper_design", *words])
+
+
 def test_contacts_refused(assert_rejected):
     assert_rejected(BASE.format(model="") + """
 [[contacts]]

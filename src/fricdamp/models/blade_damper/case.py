@@ -12,7 +12,9 @@ Summary contract (issue 3), top-level keys::
              "optimum": {"damper_mass_kg", "gamma_deg", "blade_amplitude_m"},
              "optimum_on_validity_boundary": bool,                        (issue 14)
              "validity_boundary": [{"damper_mass_kg", "gamma_valid_deg",
-                                    "gamma_invalid_deg", ...}, ...]}      (one per mass)
+                                    "gamma_invalid_deg", ...}, ...],      (one per mass)
+             "release": bool, "restitution", "n_released_designs",         (issue 14)
+             "optimum_with_release": {..., "beyond_lift_off": bool}}
 
 and in the ``time_response`` section (issue 14): ``period_multiple``, ``stable``,
 ``cpu_s_per_period`` and ``orbit`` (the steady periodic orbit by shooting).
@@ -404,6 +406,19 @@ class DamperDesign(Section):
         None, description="overrides [model] excitation_amplitude_N")
     workers: int = Field(1, ge=1, le=256, description="processes running the designs (the "
                                                       "number of cores; same results)")
+    release: bool = Field(
+        False, description="recompute the designs that lift off with the released model "
+                           "(damper lift-off and impacts) instead of discarding them")
+    restitution: float = Field(
+        0.0, ge=0, le=1, description="restitution coefficient (0..1) of the damper-platform "
+                                     "impacts (with release)")
+
+    @model_validator(mode="after")
+    def _restitution_needs_release(self):
+        if self.restitution != 0 and not self.release:
+            raise ValueError("restitution applies only with release = true (without it the "
+                             "damper never lifts off, so it never impacts)")
+        return self
 
 
 def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
@@ -430,7 +445,8 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
                          frequency_hz=f, resolution_hz=spec.resolution_hz,
                          centrifugal_acceleration=spec.centrifugal_acceleration_m_per_s2,
                          boundary_refinements=spec.boundary_refinements,
-                         workers=spec.workers,
+                         workers=spec.workers, release=spec.release,
+                         restitution=spec.restitution,
                          progress=None if bar is None else _progress(bar))
     finally:
         if bar is not None:
@@ -449,12 +465,20 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
                "converged": design["converged"],
                "n_nonperiodic_steady_states": design["n_nonperiodic_steady_states"],
                "excitation_amplitude_N": p.excitation_amplitude,
+               "release": design["release"], "restitution": design["restitution"],
+               "n_released_designs": design["n_released_designs"],
+               "optimum_with_release": design["optimum_with_release"],
                "runtime_s_solver": time.perf_counter() - t0}
     headline = (f"{summary['n_designs']} designs + {n_refined} on the lift-off boundary; "
                 f"smallest resonant blade amplitude {opt['blade_amplitude_m']:.3g} m at m_D = "
                 f"{opt['damper_mass_kg']:g} kg, gamma = {opt['gamma_deg']:.4g} deg"
                 + (" (on the lift-off boundary)" if summary["optimum_on_validity_boundary"]
                    else ""))
+    best = design["optimum_with_release"]
+    if spec.release and best["beyond_lift_off"]:
+        headline += (f"; beyond lift-off {best['blade_amplitude_m']:.3g} m at m_D = "
+                     f"{best['damper_mass_kg']:g} kg, gamma = {best['gamma_deg']:.4g} deg "
+                     "(damper rattles)")
 
     def figures():
         from fricdamp import plot
@@ -465,14 +489,20 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
         ax = axes[0, 0]
         fa, la = plot.si_scale(A, "m")
         ok = np.asarray(design["parabolas"][0]["valid"], bool)
+        rel = np.asarray(design["parabolas"][0]["released"], bool)
         mg = np.asarray(design["damper_mass_kg"]) * 1e3
         for j, g in enumerate(design["gamma_deg"]):
             (line,) = ax.plot(mg, np.where(ok[:, j], A[:, j], np.nan) / fa, "o-", ms=4,
                               label=f"gamma = {g:g} deg")
-            bad = ~ok[:, j] & np.isfinite(A[:, j])
+            bad = ~ok[:, j] & ~rel[:, j] & np.isfinite(A[:, j])
             if bad.any():
                 ax.plot(mg[bad], A[bad, j] / fa, "x", color=line.get_color(), ms=7)
-        if not ok.all():
+            if rel[:, j].any():  # beyond lift-off, computed with the released model
+                ax.plot(mg[rel[:, j]], A[rel[:, j], j] / fa, "^", mfc="none", ms=7,
+                        color=line.get_color())
+        if rel.any():
+            ax.plot([], [], "k^", mfc="none", label="beyond lift-off (released model)")
+        if not (ok | rel).all():
             ax.plot([], [], "kx", label="invalid (damper lifts off or solver failed)")
         bnd = [b for b in design["validity_boundary"]
                if b["p1_per_m"] == design["parabolas"][0]["p1_per_m"]
@@ -508,6 +538,13 @@ def run_design(obj, spec: DamperDesign, ctx: RunContext) -> AnalysisOutput:
         notes.append(f"{len(shaky)} valid design(s) have unconverged steady states (amplitude "
                      f"more than {CLOSE:.0%} above the optimum, which they cannot change): "
                      + ", ".join(f"m_D = {m:g} kg, gamma = {g:.4g} deg" for m, g, _ in shaky))
+    if design["n_released_designs"]:
+        notes.append(f"{design['n_released_designs']} design(s) beyond lift-off computed with "
+                     f"the released model (restitution {design['restitution']:g}); they stay "
+                     "invalid (the damper rattles); best over all computed designs: "
+                     f"{best['blade_amplitude_m']:.3g} m at m_D = {best['damper_mass_kg']:g} "
+                     f"kg, gamma = {best['gamma_deg']:.4g} deg"
+                     + (" (beyond lift-off)" if best["beyond_lift_off"] else ""))
     if design["n_nonperiodic_steady_states"]:
         notes.append(f"{design['n_nonperiodic_steady_states']} stick-slip steady states have "
                      "no stable periodic orbit (beating responses, amplitude from two long "

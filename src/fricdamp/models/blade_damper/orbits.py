@@ -100,6 +100,11 @@ class SteadyOrbit:
         Process CPU time of the call [s].
     errors : tuple of str
     orbit : PeriodicOrbit or None
+    notes : tuple of str
+        Released system (``release``): shooting attempts that failed (e.g. an accumulation
+        of impacts cut short by the Zeno velocity, whose saltation matrices are not
+        resolved); the response is then measured over windows (``periodic`` False), which
+        is not an error.
     """
 
     frequency_hz: float
@@ -122,6 +127,7 @@ class SteadyOrbit:
     cpu_s: float
     errors: tuple = ()
     orbit: object = field(default=None, repr=False, compare=False)
+    notes: tuple = ()
 
     def summary(self) -> dict:
         return {"frequency_hz": float(self.frequency_hz), "amplitude_m": float(self.amplitude_m),
@@ -135,12 +141,10 @@ class SteadyOrbit:
                 "min_normal_force_N": float(self.min_normal_force_N)}
 
 
-def _configuration_times(res) -> dict:
-    from fricdamp.models.blade_damper.configurations import CONFIGURATIONS, configuration_codes
+def _configuration_times(res, release: bool = False) -> dict:
+    from fricdamp.models.blade_damper.configurations import time_in_configuration
 
-    conf = configuration_codes(res.modes)
-    dt = np.diff(res.t)
-    return {name: float(dt[conf[:-1] == k].sum()) for k, name in enumerate(CONFIGURATIONS)}
+    return time_in_configuration(res.t, res.modes, release=release)
 
 
 def _tail_windows(tail, t_end, width):
@@ -222,7 +226,7 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
     -------
     SteadyOrbit
     """
-    from fricdamp.models.blade_damper.configurations import _system
+    from fricdamp.models.blade_damper.configurations import RELEASED_NORMAL_FORCE_TOL_N, _system
     from fricdamp.solvers.event_switch import STICK
     from fricdamp.solvers.shooting import _return_map, flow, neutral_stability, shoot
 
@@ -235,11 +239,16 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
             raise ModelError(f"{name} must be an integer >= "
                              f"{0 if name == 'transient_periods' else 1}, got {v!r}")
     T = 1.0 / p.excitation_frequency
+    # a released contact opens instead of pulling: only round-off may remain below zero
+    tensile = -RELEASED_NORMAL_FORCE_TOL_N if s.release else 0.0
+    why = ("a released contact is tensile (solver error)" if s.release else
+           "the damper would lift off, which this no-separation model excludes")
     y = (np.concatenate([s.static_equilibrium().q, np.zeros(7)]) if y0 is None
          else as_finite_array("y0", y0).copy())
     t = float(t_start)
     done = 0
     errors: list[str] = []
+    notes: list[str] = []  # released: failed shots (the windows measure the response)
 
     def advance(k):
         nonlocal y, t, done
@@ -255,7 +264,7 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
             o = shoot(s, T, y, t0=t, transient_periods=0, period_multiple=nmul,
                       max_iter=iters, rtol=rtol)
         except ConvergenceError as exc:
-            errors.append(f"shooting failed at t = {t:.6g} s: {exc}")
+            (notes if s.release else errors).append(f"shooting failed at t = {t:.6g} s: {exc}")
             return None, None
         return o, (neutral_stability(s, o) if o.success else None)
 
@@ -350,9 +359,8 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
                    t_eval=np.linspace(o.t0, o.t0 + o.period_multiple * T,
                                       100 * o.period_multiple + 1), monodromy=False, rtol=rtol)
         minN = float(fin.result.lambda_N.min())
-        if minN < 0:
-            errors.append(f"negative normal force {minN:.4g} N on the orbit: the damper would "
-                          "lift off, which this no-separation model excludes")
+        if minN < tensile:
+            errors.append(f"negative normal force {minN:.4g} N on the orbit: " + why)
         return SteadyOrbit(
             frequency_hz=p.excitation_frequency, amplitude_m=float(o.amplitude[3]),
             amplitudes_m=np.asarray(o.amplitude), periodic=True,
@@ -361,8 +369,8 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
             multipliers_abs=np.abs(o.multipliers), neutral_contacts=tuple(ns.neutral_contacts),
             converged=converged, residual=float(o.residual), periods=int(done),
             t_section=float(o.t0), y_end=np.asarray(o.y0), min_normal_force_N=minN,
-            time_in_configuration=_configuration_times(fin.result),
-            cpu_s=time.process_time() - c0, errors=tuple(errors), orbit=o)
+            time_in_configuration=_configuration_times(fin.result, s.release),
+            cpu_s=time.process_time() - c0, errors=tuple(errors), orbit=o, notes=tuple(notes))
     # no stable periodic orbit: the response beats (quasi-periodic or chaotic); its
     # amplitude is the largest half peak-to-peak over two windows (the budget's last
     # 2 window_periods periods, or two further windows when the search stopped early),
@@ -376,7 +384,7 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
             res = windows[i] if windows is not None else advance(int(window_periods))
             a12.append(float(0.5 * np.ptp(res.q[:, 3])))
             minN_all = min(minN_all, float(res.lambda_N.min()))
-            if minN_all < 0:
+            if minN_all < tensile:
                 break
     except ConvergenceError as exc:
         errors.append(f"solver: {exc}")
@@ -384,9 +392,8 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
     amp = max(a12) if res is not None else float("nan")
     stationary = bool(len(a12) == 2 and abs(a12[1] - a12[0]) <= stationarity_tol * amp)
     minN = minN_all if res is not None else float("nan")
-    if minN < 0:
-        errors.append(f"negative normal force {minN:.4g} N: the damper would lift off, which "
-                      "this no-separation model excludes")
+    if minN < tensile:
+        errors.append(f"negative normal force {minN:.4g} N: " + why)
     o, ns = best if best is not None else (None, None)
     return SteadyOrbit(
         frequency_hz=p.excitation_frequency, amplitude_m=amp,
@@ -397,5 +404,6 @@ def steady_orbit(params, *, y0=None, t_start: float = 0.0, transient_periods: in
         neutral_contacts=tuple(ns.neutral_contacts) if ns is not None else (),
         converged=stationary, residual=float(o.residual) if o is not None else float("nan"),
         periods=int(done), t_section=float(t), y_end=y, min_normal_force_N=minN,
-        time_in_configuration=_configuration_times(res) if res is not None else {},
-        cpu_s=time.process_time() - c0, errors=tuple(errors), orbit=o)
+        time_in_configuration=(_configuration_times(res, s.release) if res is not None
+                               else {}),
+        cpu_s=time.process_time() - c0, errors=tuple(errors), orbit=o, notes=tuple(notes))

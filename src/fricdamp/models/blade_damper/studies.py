@@ -39,14 +39,20 @@ import numpy as np
 from fricdamp.errors import ConvergenceError, ModelError, as_finite_array
 from fricdamp.models.blade_damper.configurations import (  # noqa: F401 (moved there, kept here)
     CONFIGURATIONS,
+    RELEASED_CONFIGURATIONS,
+    RELEASED_NORMAL_FORCE_TOL_N,
+    _rebuild,
     _system,
     configuration_codes,
+    open_fraction,
+    time_in_configuration,
 )
 from fricdamp.models.blade_damper.model import BladeDamperSystem
 from fricdamp.solvers.event import simulate_events
 
 __all__ = [
     "CONFIGURATIONS",
+    "RELEASED_CONFIGURATIONS",
     "DesignStudy",
     "default_design_band",
     "PulloffCheck",
@@ -269,12 +275,14 @@ class TimeResponse:
     configuration : ndarray of int, shape (n_t,)
         Index into :data:`CONFIGURATIONS` at each sample.
     time_in_configuration : dict of str -> float
-        Time [s] spent in each configuration.
+        Time [s] spent in each configuration (:data:`CONFIGURATIONS`; for a released system
+        :data:`RELEASED_CONFIGURATIONS`, with the lifted-off ones).
     min_normal_force : float
         Smallest normal force [N] of the run.
     errors : tuple of str
         Violated model assumptions (a negative normal force means the damper would lift off,
-        which this model excludes as the paper does), solver failures.
+        which the no-separation model excludes as the paper does; a released system lifts
+        off instead, ``release=True``), solver failures.
     """
 
     result: object
@@ -309,6 +317,12 @@ class TimeResponse:
     def t(self) -> np.ndarray:
         return self.result.t
 
+    @property
+    def open_fraction(self) -> float:
+        """Fraction of the run's time during which a contact is open (lifted off; 0 for
+        the no-separation model)."""
+        return open_fraction(self.time_in_configuration)
+
     def phase_plot(self, dof: int = 3, last_periods: float | None = None):
         """``(t, q, q')`` of one coordinate (default q4, index 3) for a phase plot (000 Fig. 8),
         optionally only the last ``last_periods`` excitation periods."""
@@ -322,7 +336,9 @@ class TimeResponse:
 
 def time_response(params=None, periods: float = 20.0, *, y0=None, t_start: float = 0.0,
                   samples_per_period: int = 200, rtol: float = 1e-8, atol: float = 1e-12,
-                  max_events: int = 100_000, throw: bool = False) -> TimeResponse:
+                  max_events: int = 100_000, throw: bool = False,
+                  release: bool | None = None,
+                  restitution: float | None = None) -> TimeResponse:
     """Event-driven response from the static state (or ``y0``) over ``periods`` periods.
 
     Parameters
@@ -342,12 +358,19 @@ def time_response(params=None, periods: float = 20.0, *, y0=None, t_start: float
         Event budget.
     throw : bool
         Raise on solver failure (default False: failure recorded in ``errors``).
+    release : bool, optional
+        Let the damper lift off and re-impact (unilateral normal contacts,
+        :class:`BladeDamperSystem` ``release``); None (default): the system's own setting
+        (no-separation for parameters).
+    restitution : float, optional
+        Restitution coefficient in [0, 1] of the impacts (with ``release``); None: the
+        system's own (0 for parameters).
 
     Returns
     -------
     TimeResponse
     """
-    s = _system(params)
+    s = _system(params, release=release, restitution=restitution)
     p = s.params
     if not periods > 0:
         raise ModelError(f"periods must be > 0, got {periods!r}")
@@ -364,21 +387,21 @@ def time_response(params=None, periods: float = 20.0, *, y0=None, t_start: float
                           max_events=max_events, throw=False)
     if throw and not res.success:
         raise ConvergenceError(res.message)
-    return _wrap(res, p)
+    return _wrap(res, p, s.release)
 
 
-def _wrap(res, p) -> TimeResponse:
+def _wrap(res, p, release: bool = False) -> TimeResponse:
     errors = []
     if not res.success:
         errors.append(f"solver: {res.message}")
     minN = float(res.lambda_N.min()) if res.lambda_N.size else float("nan")
-    if minN < 0:
+    if minN < (-RELEASED_NORMAL_FORCE_TOL_N if release else 0.0):
         i = int(np.argmin(res.lambda_N.min(axis=1)))
-        errors.append(f"negative normal force {minN:.4g} N at t = {res.t[i]:.6g} s: the damper "
-                      "would lift off, which this no-separation model excludes")
+        errors.append(f"negative normal force {minN:.4g} N at t = {res.t[i]:.6g} s: " + (
+            "a released contact is tensile (solver error)" if release else
+            "the damper would lift off, which this no-separation model excludes"))
     conf = configuration_codes(res.modes)
-    dt = np.diff(res.t)
-    tic = {name: float(dt[conf[:-1] == k].sum()) for k, name in enumerate(CONFIGURATIONS)}
+    tic = time_in_configuration(res.t, res.modes, release=release)
     return TimeResponse(result=res, configuration=conf, time_in_configuration=tic,
                         min_normal_force=minN, errors=tuple(errors),
                         meta={"excitation_frequency": p.excitation_frequency,
@@ -483,6 +506,9 @@ class SteadyState:
     min_normal_force_N : float
         Smallest normal contact force [N] of the steady state (the orbit, the last window,
         or the stuck response); negative: the damper would lift off.
+    notes : tuple of str
+        Remarks that are not errors (released system: shooting attempts that failed, the
+        amplitude then measured over windows).
     """
 
     frequency_hz: float
@@ -497,6 +523,13 @@ class SteadyState:
     period_multiple: int = 0
     stable: bool | None = None
     min_normal_force_N: float = float("nan")
+    notes: tuple[str, ...] = ()
+
+    @property
+    def open_fraction(self) -> float:
+        """Fraction of the time in ``time_in_configuration`` during which a contact is open
+        (lifted off; 0 without ``release``)."""
+        return open_fraction(self.time_in_configuration)
 
 
 def _amplitude(tr: TimeResponse, periods: float, dof: int = 3) -> float:
@@ -509,11 +542,16 @@ def steady_state_amplitude(params, *, y0=None, t_start: float = 0.0,
                            measure_periods: float | None = None, tol: float = 0.05,
                            rtol: float = 1e-7, atol: float = 1e-11,
                            samples_per_period: int = 60,
-                           method: str = "shooting", orbit_periods: int = 200) -> SteadyState:
+                           method: str = "shooting", orbit_periods: int = 200,
+                           release: bool | None = None,
+                           restitution: float | None = None) -> SteadyState:
     """Steady blade amplitude q4 [m] at ``params.excitation_frequency``.
 
     Below the pull-off amplitude the stuck steady state is exact and linear: its amplitude is
-    returned directly (``periods = 0``). Above it, event-driven chunks of ``chunk_periods``
+    returned directly (``periods = 0``). With ``release`` (the damper may lift off and
+    re-impact, :func:`time_response`) that holds only while its normal forces stay
+    compressive; a stuck steady state that would pull a normal force through zero lifts
+    off, and is integrated from it instead. Above it, event-driven chunks of ``chunk_periods``
     periods are run from ``y0`` at ``t_start`` (default: the stuck steady state at the pull-off
     amplitude, which starts slipping at once) until, over the last ``measure_periods``
     periods, (a) the q4 amplitude differs by less than ``tol`` (relative) from the previous
@@ -532,10 +570,13 @@ def steady_state_amplitude(params, *, y0=None, t_start: float = 0.0,
     search (without a stable orbit of period <= 4 T by then the response is reported as not
     periodic, ``converged = False``; such a point costs about ``orbit_periods`` periods of
     integration, 0.03-0.1 s each). ``method="window"`` is the criterion above.
+
+    ``release`` and ``restitution`` (None: the system's own) are those of
+    :func:`time_response`.
     """
     if method not in ("shooting", "window"):
         raise ModelError(f"method must be 'shooting' or 'window', got {method!r}")
-    s = _system(params)
+    s = _system(params, release=release, restitution=restitution)
     p = s.params
     if measure_periods is None:
         measure_periods = chunk_periods
@@ -545,18 +586,24 @@ def steady_state_amplitude(params, *, y0=None, t_start: float = 0.0,
     f = p.excitation_frequency
     T = 1.0 / f
     lim = float(pulloff_curve(s, [f]).F_e_limit_N[0])
-    if y0 is None and p.excitation_amplitude <= lim:
+    stuck = y0 is None and p.excitation_amplitude <= lim
+    if stuck:
         r = stuck_constraint_forces(s, [f])
         Q = r["Q"][0] * p.excitation_amplitude
         minN = float(np.min(r["lambda_N0"] - p.excitation_amplitude * np.abs(r["Lambda_N"][0])))
-        q, qd = stuck_steady_state(s, t_start)
-        return SteadyState(frequency_hz=f, amplitude_m=float(abs(Q[3])), converged=True,
-                           periods=0.0, y_end=np.concatenate([q, qd]),
-                           time_in_configuration={c: (float("inf") if c == "stick/stick"
-                                                      else 0.0) for c in CONFIGURATIONS},
-                           method="stuck", periodic=True, period_multiple=1, stable=True,
-                           min_normal_force_N=minN)
-    if y0 is None:  # the stuck steady state at the pull-off amplitude: consistent, and
+        if not (s.release and minN < 0):
+            q, qd = stuck_steady_state(s, t_start)
+            names = RELEASED_CONFIGURATIONS if s.release else CONFIGURATIONS
+            return SteadyState(frequency_hz=f, amplitude_m=float(abs(Q[3])), converged=True,
+                               periods=0.0, y_end=np.concatenate([q, qd]),
+                               time_in_configuration={c: (float("inf") if c == "stick/stick"
+                                                          else 0.0) for c in names},
+                               method="stuck", periodic=True, period_multiple=1, stable=True,
+                               min_normal_force_N=minN)
+    if stuck:  # released, and the stuck steady state would pull a normal force through
+        # zero: start on it (it lifts off within a period)
+        y = np.concatenate(stuck_steady_state(s, t_start))
+    elif y0 is None:  # the stuck steady state at the pull-off amplitude: consistent, and
         # it starts slipping at once under the larger excitation
         y = np.concatenate(stuck_steady_state(p.with_(excitation_amplitude=lim), t_start))
     else:
@@ -572,7 +619,7 @@ def steady_state_amplitude(params, *, y0=None, t_start: float = 0.0,
                            time_in_configuration=so.time_in_configuration,
                            errors=so.errors, method="shooting", periodic=so.periodic,
                            period_multiple=so.period_multiple, stable=so.stable,
-                           min_normal_force_N=so.min_normal_force_N)
+                           min_normal_force_N=so.min_normal_force_N, notes=so.notes)
     t = float(t_start)
     done, prev, amp = 0.0, np.nan, np.nan
     errors: tuple[str, ...] = ()
@@ -614,7 +661,9 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
                         max_periods: float = 96.0, tol: float = 0.05,
                         rtol: float = 1e-7, n_fine: int = 401,
                         resolution_hz: float | None = 0.25,
-                        method: str = "shooting", orbit_periods: int = 200) -> dict:
+                        method: str = "shooting", orbit_periods: int = 200,
+                        release: bool | None = None,
+                        restitution: float | None = None) -> dict:
     """Steady q4 amplitude over a stepped-sine sweep and its maximum.
 
     Frequencies are visited in the given order; each event-driven run starts from the end
@@ -638,6 +687,10 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
       from the lower neighbour's end state (large steps leave transients that settle slowly
       in a lightly damped structure).
 
+    With ``release`` (None: the system's own; see :func:`time_response`) every steady
+    state lets the damper lift off and re-impact; the stuck steady states then count only
+    where their normal forces stay compressive.
+
     Returns
     -------
     dict
@@ -649,9 +702,11 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
         state: a converged stable periodic orbit, or a stationary non-periodic response),
         ``n_nonperiodic`` (points without a stable periodic orbit), ``min_normal_force_N``
         (smallest normal contact force over all steady states [N]; negative: lift-off),
-        ``errors`` (list of str), ``notes`` (frequencies without a stable periodic orbit).
+        ``open_fraction`` (largest fraction of time with a contact open over the steady
+        states; 0 without ``release``), ``release`` (bool), ``errors`` (list of str),
+        ``notes`` (frequencies without a stable periodic orbit).
     """
-    s = _system(params)
+    s = _system(params, release=release, restitution=restitution)
     p = s.params
     f = _frequencies("frequency_hz", frequency_hz)
     amp = np.full(f.size, np.nan)
@@ -659,7 +714,7 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
     stuck = np.zeros(f.size, dtype=bool)
     errors: list[str] = []
     notes: list[str] = []
-    state = {"minN": np.inf, "conv": True, "nonperiodic": 0}
+    state = {"minN": np.inf, "conv": True, "nonperiodic": 0, "open": 0.0}
     ends: dict[float, tuple] = {}  # event-driven end state and excitation phase per frequency
     steady = dict(chunk_periods=chunk_periods, max_periods=max_periods, tol=tol, rtol=rtol,
                   method=method, orbit_periods=orbit_periods)
@@ -668,17 +723,21 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
         """Steady state at fi from start = (y, phase) or None; records its end state."""
         y, phase = start if start is not None else (None, 0.0)
         w = 2 * np.pi * fi
-        ss = steady_state_amplitude(p.with_(excitation_frequency=float(fi)), y0=y,
-                                    t_start=phase / w if y is not None else 0.0, **steady)
+        ss = steady_state_amplitude(_rebuild(s, p.with_(excitation_frequency=float(fi))),
+                                    y0=y, t_start=phase / w if y is not None else 0.0,
+                                    **steady)
         if ss.periodic is False:
             notes.append(f"{fi:g} Hz: no stable periodic orbit (the response beats); "
                          "amplitude from two windows, "
                          + ("stationary" if ss.converged else "not stationary"))
             state["nonperiodic"] += 1
         errors.extend(f"{fi:g} Hz: {e}" for e in ss.errors)
+        notes.extend(f"{fi:g} Hz: {e}" for e in ss.notes)
         if np.isfinite(ss.min_normal_force_N):
             state["minN"] = min(state["minN"], ss.min_normal_force_N)
         state["conv"] &= bool(ss.converged)
+        if np.isfinite(ss.open_fraction):
+            state["open"] = max(state["open"], ss.open_fraction)
         if ss.periods > 0 and not ss.errors:
             ends[float(fi)] = (ss.y_end, (phase + w * ss.periods / fi) % (2 * np.pi))
         return ss
@@ -692,7 +751,10 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
     cands = []  # (amplitude, frequency)
     fg = np.linspace(f.min(), f.max(), int(n_fine))
     Ag = np.abs(stuck_constraint_forces(s, fg)["Q"][:, 3]) * p.excitation_amplitude
-    valid = p.excitation_amplitude <= pulloff_curve(s, fg).F_e_limit_N
+    pc = pulloff_curve(s, fg)
+    valid = p.excitation_amplitude <= pc.F_e_limit_N
+    if s.release:  # a stuck state pulling a normal force through zero lifts off
+        valid &= p.excitation_amplitude < pc.separation_limit_N
     if valid.any():
         j = int(np.argmax(np.where(valid, Ag, -np.inf)))
         cands.append((float(Ag[j]), float(fg[j])))
@@ -718,7 +780,8 @@ def resonance_amplitude(params, frequency_hz, *, chunk_periods: float = 8.0,
             "refined_amplitude_m": [a for _, a in refined], "errors": errors,
             "notes": notes, "all_converged": bool(state["conv"]),
             "n_nonperiodic": int(state["nonperiodic"]),
-            "min_normal_force_N": float(minN)}
+            "min_normal_force_N": float(minN), "open_fraction": float(state["open"]),
+            "release": bool(s.release)}
 
 
 def _fine_sweep(solve, lo, hi, start, step, errors, ends) -> list[tuple[float, float]]:
@@ -779,22 +842,26 @@ class DesignStudy:
     parabolas : tuple of (float, float)
         ``(p1 [1/m], p2 [m])`` pairs, shape (n_p,).
     blade_amplitude_m : ndarray, shape (n_p, n_m, n_g)
-        Largest steady q4 amplitude over the frequency band [m] (000 Fig. 12).
+        Largest steady q4 amplitude over the frequency band [m] (000 Fig. 12); of the
+        released model where ``released``.
     peak_frequency_hz : ndarray, shape (n_p, n_m, n_g)
-        Frequency of that largest amplitude [Hz].
+        Frequency of that largest amplitude [Hz] (released model where ``released``).
     converged : ndarray of bool, shape (n_p, n_m, n_g)
         All event-driven points of the sweep reached a steady state (by shooting: a stable
-        periodic orbit).
+        periodic orbit); of the released model where ``released``.
     valid : ndarray of bool, shape (n_p, n_m, n_g)
         No point of the sweep violated the model (a negative normal force: the damper would
-        lift off) or failed in the solver; invalid designs are excluded from the optimum.
+        lift off) or failed in the solver; invalid designs are excluded from
+        :attr:`optimum`. A released design stays invalid (it rattles: beyond the
+        no-separation design limit).
     centrifugal_acceleration : float
         ``F_Z = m_D a_c`` [m/s^2] (a turbine: the centrifugal force grows with the mass).
     frequency_hz : ndarray, shape (n_f,)
         Frequencies swept [Hz].
     errors : tuple of str
     min_normal_force_N : ndarray, shape (n_p, n_m, n_g)
-        Smallest normal contact force over the design's steady states [N].
+        Smallest normal contact force over the design's steady states [N] of the
+        no-separation model (negative: the damper lifts off, also where ``released``).
     boundary : tuple of dict
         Per parabola and damper mass, the lift-off (no-separation) boundary in gamma found
         by bisection (see :func:`design_study`): ``parabola`` (index), ``damper_mass_kg``,
@@ -807,6 +874,21 @@ class DesignStudy:
     n_nonperiodic : int
         Stick-slip steady states of all designs without a stable periodic orbit (beating
         responses; their amplitudes come from two long windows).
+    release : bool
+        Designs that lift off were recomputed with the released model (damper lift-off and
+        impacts, :func:`design_study` ``release``).
+    restitution : float
+        Restitution coefficient of those impacts.
+    released : ndarray of bool, shape (n_p, n_m, n_g) or None
+        The design lifts off (no-separation model) and was computed with the released
+        model: ``blade_amplitude_m``, ``peak_frequency_hz`` and ``converged`` are then the
+        released model's (None: the study ran without ``release``, nothing released).
+    released_min_normal_force_N : ndarray, shape (n_p, n_m, n_g) or None
+        Smallest normal force over the released design's steady states [N] (>= 0 up to
+        round-off: open contacts carry none); NaN where not released.
+    open_fraction : ndarray, shape (n_p, n_m, n_g) or None
+        Largest fraction of time with a contact open over the released design's steady
+        states (how much it rattles); NaN where not released.
     """
 
     damper_mass_kg: np.ndarray
@@ -822,6 +904,45 @@ class DesignStudy:
     min_normal_force_N: np.ndarray | None = None
     boundary: tuple = ()
     n_nonperiodic: int = 0
+    release: bool = False
+    restitution: float = 0.0
+    released: np.ndarray | None = None
+    released_min_normal_force_N: np.ndarray | None = None
+    open_fraction: np.ndarray | None = None
+
+    @property
+    def lift_off(self) -> np.ndarray:
+        """(n_p, n_m, n_g) bool: the design's steady states of the no-separation model turn a
+        normal force tensile (the damper lifts off: beyond the design limit)."""
+        minN = (np.full(self.blade_amplitude_m.shape, np.nan)
+                if self.min_normal_force_N is None else self.min_normal_force_N)
+        return np.asarray(minN < 0)
+
+    def _released(self) -> np.ndarray:
+        return (np.zeros(self.blade_amplitude_m.shape, dtype=bool) if self.released is None
+                else np.asarray(self.released, dtype=bool))
+
+    @property
+    def optimum_released(self) -> dict:
+        """Design with the smallest resonant blade amplitude over every computed design:
+        the valid ones (:attr:`optimum`'s candidates) and the released ones (beyond
+        lift-off, computed with the released model). ``beyond_lift_off`` says whether it
+        is a released design: a smaller amplitude bought by a rattling damper (impacts,
+        wear), which the no-separation :attr:`optimum` excludes. Without released designs
+        it is :attr:`optimum` with ``beyond_lift_off`` False."""
+        c = [(a, ip, im, g, False) for a, ip, im, g in self._candidates()]
+        rel = self._released()
+        for k in zip(*np.nonzero(rel), strict=True):
+            a = float(self.blade_amplitude_m[k])
+            if np.isfinite(a):
+                c.append((a, int(k[0]), int(k[1]), float(self.gamma_deg[k[2]]), True))
+        if not c:
+            return {**self.optimum, "beyond_lift_off": False}
+        a, ip, im, g, beyond = min(c)
+        p1, p2 = self.parabolas[ip]
+        return {"damper_mass_kg": float(self.damper_mass_kg[im]), "gamma_deg": g,
+                "p1_per_m": float(p1), "p2_m": float(p2), "blade_amplitude_m": a,
+                "beyond_lift_off": bool(beyond)}
 
     def _candidates(self):
         """(amplitude, parabola, mass index, gamma [deg], on_boundary) of every valid design,
@@ -874,9 +995,19 @@ class DesignStudy:
         ``blade_amplitude_m`` is the (n_m, n_g) table of the first parabola; every parabola's
         table is under ``parabolas``; the optimum is over all of them and the boundary
         bisection; ``validity_boundary`` lists the lift-off boundary per parabola and mass.
+        Issue 14 (release): ``release``, ``restitution``, ``n_released_designs``,
+        ``optimum_with_release`` (:attr:`optimum_released`, with ``beyond_lift_off``) and per
+        parabola ``lift_off``, ``released``, ``released_min_normal_force_N`` and
+        ``open_fraction`` tables (None where not released).
         """
         minN = (np.full(self.blade_amplitude_m.shape, np.nan) if self.min_normal_force_N is None
                 else self.min_normal_force_N)
+        nan = np.full(self.blade_amplitude_m.shape, np.nan)
+        rel = self._released()
+        rel_minN = (nan if self.released_min_normal_force_N is None
+                    else self.released_min_normal_force_N)
+        opened = nan if self.open_fraction is None else self.open_fraction
+        lift = self.lift_off
 
         def num(x):
             return None if x is None or not np.isfinite(x) else float(x)
@@ -903,7 +1034,12 @@ class DesignStudy:
                            "peak_frequency_hz": self.peak_frequency_hz[i].tolist(),
                            "converged": self.converged[i].tolist(),
                            "valid": self.valid[i].tolist(),
-                           "min_normal_force_N": [[num(x) for x in row] for row in minN[i]]}
+                           "min_normal_force_N": [[num(x) for x in row] for row in minN[i]],
+                           "lift_off": lift[i].tolist(),
+                           "released": rel[i].tolist(),
+                           "released_min_normal_force_N": [[num(x) for x in row]
+                                                           for row in rel_minN[i]],
+                           "open_fraction": [[num(x) for x in row] for row in opened[i]]}
                           for i, (p1, p2) in enumerate(self.parabolas)],
             "centrifugal_acceleration_m_per_s2": float(self.centrifugal_acceleration),
             "frequency_hz": self.frequency_hz.tolist(),
@@ -911,23 +1047,39 @@ class DesignStudy:
                 r["converged"] for b in self.boundary for r in b["refined"])),
             "n_nonperiodic_steady_states": int(self.n_nonperiodic),
             "errors": list(self.errors),
+            "release": bool(self.release),
+            "restitution": float(self.restitution),
+            "n_released_designs": int(rel.sum()),
+            "optimum_with_release": self.optimum_released,
         }
 
 
 def _design_job(args):
-    """One design of :func:`design_study`: ``(result dict, errors, n_nonperiodic)``."""
+    """One design of :func:`design_study`: ``(result dict, errors, n_nonperiodic)``. The
+    context's ``kw`` may hold ``release`` and ``restitution`` (the released recomputation
+    of a design that lifts off; its errors are then prefixed ``released:``)."""
     (base, pars, f, ac, kw), ip, m, g = args
     p1, p2 = pars[ip]
     pp = base.with_(damper_mass=float(m), gamma_deg=float(g), p1=p1, p2=p2,
                     centrifugal_force=float(m * ac))
     r = resonance_amplitude(pp, f, **kw)
-    errs = [f"m_D={m:g} kg, gamma={g:g} deg, p1={p1:g}: {e}" for e in r["errors"]]
+    tag = "released: " if r["release"] else ""
+    errs = [f"m_D={m:g} kg, gamma={g:g} deg, p1={p1:g}: {tag}{e}" for e in r["errors"]]
     return ({"blade_amplitude_m": float(r["peak_amplitude_m"]),
              "peak_frequency_hz": float(r["peak_hz"]),
              "converged": bool(np.all(r["converged"]) and r["all_converged"]),
              "valid": bool(not r["errors"] and np.isfinite(r["peak_amplitude_m"])),
-             "min_normal_force_N": float(r["min_normal_force_N"])},
+             "min_normal_force_N": float(r["min_normal_force_N"]),
+             "open_fraction": float(r["open_fraction"])},
             errs, int(r.get("n_nonperiodic", 0)))
+
+
+def _study_job(args):
+    """A job of :func:`design_study`'s second stage: ``("bracket", args)`` (a lift-off
+    bisection, :func:`_bracket_job`) or ``("released", args)`` (a design that lifts off,
+    recomputed with the released model, :func:`_design_job`)."""
+    kind, job = args
+    return _bracket_job(job) if kind == "bracket" else _design_job(job)
 
 
 def _bracket_job(args):
@@ -940,6 +1092,7 @@ def _bracket_job(args):
     for _ in range(refinements):
         g = 0.5 * (b["gamma_valid_deg"] + b["gamma_invalid_deg"])
         d, errs, k = _design_job((ctx, b["parabola"], b["damper_mass_kg"], g))
+        d.pop("open_fraction", None)  # a bilateral design: nothing opens
         errors.extend(errs)
         n_np += k
         b["refined"].append({"gamma_deg": float(g), **d})
@@ -961,14 +1114,15 @@ def _pool_call(fn, args):
         return fn(args)
 
 
-def _run_jobs(pool, fn, jobs, tick, weight: int = 1) -> list:
+def _run_jobs(pool, fn, jobs, tick, weight: int | Sequence[int] = 1) -> list:
     """``[fn(j) for j in jobs]``, in ``pool``'s processes when given; ``tick(weight)`` after
-    each job as it completes."""
+    each job as it completes (``weight`` one number, or one per job)."""
+    w = [weight] * len(jobs) if isinstance(weight, int) else list(weight)
     if pool is None:
         out = []
-        for j in jobs:
+        for k, j in enumerate(jobs):
             out.append(fn(j))
-            tick(weight)
+            tick(w[k])
         return out
     from concurrent.futures import as_completed
 
@@ -976,7 +1130,7 @@ def _run_jobs(pool, fn, jobs, tick, weight: int = 1) -> list:
     out: list = [None] * len(jobs)
     for fu in as_completed(futs):
         out[futs[fu]] = fu.result()
-        tick(weight)
+        tick(w[futs[fu]])
     return out
 
 
@@ -999,7 +1153,8 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
                  chunk_periods: float = 8.0, max_periods: float = 64.0, tol: float = 0.05,
                  rtol: float = 1e-7, resolution_hz: float | None = 0.25,
                  progress=None, method: str = "shooting", orbit_periods: int = 200,
-                 boundary_refinements: int = 3, workers: int = 1) -> DesignStudy:
+                 boundary_refinements: int = 3, workers: int = 1, release: bool = False,
+                 restitution: float = 0.0) -> DesignStudy:
     """Damper design study (000 Fig. 12): resonant blade amplitude q4 over m_D, gamma, parabola.
 
     Parameters
@@ -1046,6 +1201,27 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
         The paper-size grid (5 masses x 6 angles x 3 parabolas and the bisections) costs
         875-950 s of CPU, about 8 minutes on 2 idle cores (benchmarks/bench_blade_damper.py
         ``--grid``).
+    release : bool
+        Compute the designs beyond lift-off instead of discarding them (issue 14). Every
+        design is first computed with the no-separation model (the paper's; compiled, fast);
+        each grid design that is invalid because the damper lifts off (a negative normal
+        force, :attr:`DesignStudy.lift_off`) is then recomputed with the released model
+        (:class:`BladeDamperSystem` ``release=True``: the damper lifts off and re-impacts
+        the platforms) over the same band with the same settings, and its amplitude, peak
+        frequency and convergence replace the no-separation ones, flagged in
+        :attr:`DesignStudy.released` (with the released run's smallest normal force and
+        the fraction of time a contact is open). Such a design stays invalid: lift-off is
+        a design limit (the damper rattles), so :attr:`DesignStudy.optimum` and the
+        boundary bisection (whose designs are not recomputed) keep their meaning, and
+        :attr:`DesignStudy.optimum_released` is the best over all computed designs, saying
+        whether it lies beyond lift-off. A released design costs several times a
+        no-separation one (lift-offs and bursts of impacts are many events, and shooting
+        often cannot resolve an accumulation of impacts, so its steady states are measured
+        over windows): 1 g, 80 deg, F_e = 8 N, 3 frequencies and the peak search with
+        ``orbit_periods=60``: about 35 s of CPU against 3 s.
+    restitution : float
+        Restitution coefficient in [0, 1] of the damper-platform impacts (with
+        ``release``).
 
     Returns
     -------
@@ -1063,6 +1239,13 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
                          f"{boundary_refinements!r}")
     if isinstance(workers, bool) or int(workers) != workers or workers < 1:
         raise ModelError(f"workers must be an integer >= 1, got {workers!r}")
+    if not isinstance(release, (bool, np.bool_)):
+        raise ModelError(f"release must be True or False, got {release!r}")
+    if (isinstance(restitution, (bool, np.bool_))
+            or not isinstance(restitution, (int, float, np.integer, np.floating))
+            or not 0.0 <= float(restitution) <= 1.0):
+        raise ModelError(f"restitution must be a number in [0, 1], got {restitution!r}")
+    release, restitution = bool(release), float(restitution)
     pars = tuple((float(a), float(b)) for a, b in (parabolas or [(base.p1, base.p2)]))
     ac = (base.centrifugal_force / base.damper_mass if centrifugal_acceleration is None
           else float(centrifugal_acceleration))
@@ -1076,6 +1259,9 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
     conv = np.zeros(shape, dtype=bool)
     valid = np.zeros(shape, dtype=bool)
     minN = np.full(shape, np.nan)
+    released = np.zeros(shape, dtype=bool)
+    rel_minN = np.full(shape, np.nan)
+    opened = np.full(shape, np.nan)
     errors: list[str] = []
     total, done = int(np.prod(shape)), 0
     nonper = [0]
@@ -1135,13 +1321,31 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
         total += int(boundary_refinements) * sum(b["gamma_invalid_deg"] is not None
                                                  for b in brackets)
         open_b = [b for b in brackets if b["gamma_invalid_deg"] is not None]
-        outs = _run_jobs(pool, _bracket_job, [(ctx, b, int(boundary_refinements))
-                                              for b in open_b], tick,
-                         weight=int(boundary_refinements))
-        for b, (nb, errs, n_np) in zip(open_b, outs, strict=True):
+        # with release, the designs that lift off are recomputed with the released model,
+        # in the same pool as the bisections (independent of them)
+        lifted = ([(ip, im, ig) for ip, im, ig in jobs if minN[ip, im, ig] < 0]
+                  if release else [])
+        total += len(lifted)
+        ctx_rel = (base, pars, f, ac, {**kw, "release": True, "restitution": restitution})
+        stage = ([("bracket", (ctx, b, int(boundary_refinements))) for b in open_b]
+                 + [("released", (ctx_rel, ip, float(masses[im]), float(gammas[ig])))
+                    for ip, im, ig in lifted])
+        outs = _run_jobs(pool, _study_job, stage, tick,
+                         weight=[int(boundary_refinements) if kind == "bracket" else 1
+                                 for kind, _ in stage])
+        for b, (nb, errs, n_np) in zip(open_b, outs[:len(open_b)], strict=True):
             b.update(nb)
             errors.extend(errs)
             nonper[0] += n_np
+        for (ip, im, ig), out in zip(lifted, outs[len(open_b):], strict=True):
+            d = collect(out)
+            rel_minN[ip, im, ig] = d["min_normal_force_N"]
+            if d["valid"]:  # else the no-separation numbers stay (and the errors say why)
+                released[ip, im, ig] = True
+                amp[ip, im, ig] = d["blade_amplitude_m"]
+                fpk[ip, im, ig] = d["peak_frequency_hz"]
+                conv[ip, im, ig] = d["converged"]
+                opened[ip, im, ig] = d["open_fraction"]
     finally:
         if pool is not None:
             pool.shutdown()
@@ -1149,4 +1353,8 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
                        blade_amplitude_m=amp, peak_frequency_hz=fpk, converged=conv, valid=valid,
                        centrifugal_acceleration=ac, frequency_hz=f, errors=tuple(errors),
                        min_normal_force_N=minN, boundary=tuple(brackets),
-                       n_nonperiodic=int(nonper[0]))
+                       n_nonperiodic=int(nonper[0]), release=release,
+                       restitution=restitution if release else 0.0,
+                       released=released if release else None,
+                       released_min_normal_force_N=rel_minN if release else None,
+                       open_fraction=opened if release else None)
