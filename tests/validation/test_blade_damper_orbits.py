@@ -102,7 +102,8 @@ def _fake_design(monkeypatch, lift_off_deg, slope):
         return {"peak_amplitude_m": 1e-3 * (1 - slope * (g - 50.0)), "peak_hz": 51.0,
                 "converged": np.ones(1, bool), "all_converged": True,
                 "min_normal_force_N": -1.0 if lifts else 5.0,
-                "errors": ["negative normal force -1 N"] if lifts else []}
+                "errors": ["negative normal force -1 N"] if lifts else [],
+                "release": bool(kw.get("release")), "open_fraction": 0.0}
 
     monkeypatch.setattr(bda, "resonance_amplitude", fake)
     return calls

@@ -671,16 +671,19 @@ class _Run:
     def _compiled_loop(self):
         """The system's compiled event loop (``compiled_kernels().event_loop(run,
         max_events) -> finished``), when it can take this run: DOP853 phases with the
-        compiled kernels, bilateral contacts with friction, no trace (shooting needs the
+        compiled kernels, contacts with friction (unilateral ones only if the kernels know
+        open contacts and the Zeno velocity is the default), no trace (shooting needs the
         phases). It takes phases and switches until the end or a phase it leaves to this
         loop (anything it would not do exactly as this loop does), and hands over at the
         start of that phase."""
-        if self.lf is not None or self.trace is not None or self.uni.any() \
-                or self.ev.frictionless.any():
+        if self.lf is not None or self.trace is not None or self.ev.frictionless.any():
             return None
         ck = self.ev._fused
         if ck is None or not getattr(ck, "compiled_loop", False):
             return None
+        if self.uni.any() and not (getattr(ck, "open_contacts", False)
+                                   and self.zeno_velocity is None):
+            return None  # impacts in the kernel: with the Zeno velocity of the gap tolerance
         return getattr(ck, "event_loop", None)
 
     def loop(self, max_events):

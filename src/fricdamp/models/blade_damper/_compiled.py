@@ -1154,8 +1154,7 @@ class BladeDamperKernels:
         self.compiled_loop = self.fused_phases and bool(getattr(system, "compiled_loop",
                                                                  True))
         #: the kernels know open contacts (mode ``OPEN``: a released damper that lifted off;
-        #: the gap events of DOP853 phases); the compiled event loop does not (it is not
-        #: offered for unilateral contacts)
+        #: the gap events of DOP853 phases, lift-off and impacts in the event loop)
         self.open_contacts = True
         self._fastloop = None
 

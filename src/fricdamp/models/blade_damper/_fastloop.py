@@ -23,7 +23,15 @@ common case, step for step:
   single-candidate clip rule, the breakaway cascade with the friction LCP solved by the
   compiled Lemke kernel :func:`~fricdamp.solvers.event_kernels.lemke_kernel`, the
   consistency check ``_consistent`` and the choice among several consistent configurations
-  ``_select``).
+  ``_select``);
+* for the released damper (``release=True``, unilateral contacts): the lift-off of a contact
+  whose normal force reaches zero (it opens, mode ``OPEN``, whose only event is its gap),
+  and the impact of an open contact whose gap reaches zero (``_Run._impact``: the instant at
+  the gap's own zero, ``_gap_zero``; the gaps closed by Gauss-Newton, ``_close_gaps``;
+  Newton's impact law as an LCP in the normal impulses by Lemke, ``_impulse``; the Zeno
+  velocity of the gap tolerance, contacts set separating slower than it held closed; the
+  modes after the impulse), with the impacts and their energy loss recorded as the Python
+  loop records them.
 
 Whatever the kernel would not do exactly as the Python path does stops it at the start of
 the phase concerned (the state just after the last completed switch, before the projection),
@@ -32,10 +40,10 @@ multipliers), a step size too small, an event at the phase start or a phase of z
 (chattering), ``max_events``, a failed Lemke solve, a cascade whose result is inconsistent
 (the Python path enumerates), several consistent configurations with the most stuck
 contacts and the same number of them stuck before the event (the Python path logs a
-warning and records the ambiguity). The Python loop then
-takes that one phase and switch and hands back (:class:`FastLoop`). Runs with a trace
-(shooting), unilateral contacts (``release=True``) or frictionless contacts never take the
-kernel.
+warning and records the ambiguity), an impact whose gap zero lies on an earlier step or
+two gaps closing at once, a failed impulse. The Python loop then takes that one phase and
+switch and hands back (:class:`FastLoop`). Runs with a trace (shooting), a given
+``zeno_velocity`` or frictionless contacts never take the kernel.
 """
 
 from __future__ import annotations
@@ -55,6 +63,8 @@ REASONS = {
     16: "several consistent configurations share the best score (_select warns)",
     17: "the breakaway cascade is inconsistent (enumeration)",
     18: "singular configuration solve in a switching decision",
+    19: "an impact whose gap zero is not on the hit's step, or two gaps at once",
+    20: "a singular or failed impulse (Lemke) or gap closure at an impact",
 }
 
 LOOP_SRC = '''
@@ -69,17 +79,23 @@ _QUARTERS = np.array([0.25, 0.5, 0.75, 1.0])
 
 @njit(cache=True)
 def _event_list(modes, par):
-    """:func:`fricdamp.solvers.event_phase.event_list` (both normals constrained, friction):
-    kinds, contacts, limits (mu_static) and slip signs of the event functions."""
+    """:func:`fricdamp.solvers.event_phase.event_list` (both normals constrained, friction;
+    an open contact has its gap event only): kinds, contacts, limits (mu_static) and slip
+    signs of the event functions."""
     n = 0
     for i in range(2):
-        n += 3 if modes[i] == STICK else 2
+        n += 1 if modes[i] == OPEN else (3 if modes[i] == STICK else 2)
     kinds = np.empty(n, dtype=np.int64)
     contacts = np.empty(n, dtype=np.int64)
     lim = np.empty(n)
     sgn = np.empty(n)
     e = 0
     for i in range(2):
+        if modes[i] == OPEN:
+            kinds[e] = 4
+            contacts[e] = i
+            e += 1
+            continue
         if modes[i] == STICK:
             kinds[e] = 1
             contacts[e] = i
@@ -117,7 +133,7 @@ def _time_tol(j, i, t, h, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, 
 
 @njit(cache=True)
 def _first_event(j, ta, tb, g_prev, GI, scale, first, TA, TB, YOLD, FF, modes, sigma, par,
-                 kinds, contacts, lim, sgn, vel, rtol, fired):
+                 kinds, contacts, lim, sgn, vel, rtol, fired, atol_max):
     """:func:`fricdamp.solvers.event_phase.first_event` on the samples of step j (its start
     and quarter points) with ``refine_root``, ``dip_search`` and ``_time_tol``. Returns
     (code, t): code -1 no event, 0 an event at t (``fired`` marks the grouped functions), 1
@@ -131,6 +147,8 @@ def _first_event(j, ta, tb, g_prev, GI, scale, first, TA, TB, YOLD, FF, modes, s
     Gs = np.empty((nev, 5))
     for e in range(nev):
         tol[e] = 1e2 * _EPS * scale[e] + _TINY
+        if kinds[e] == 4:  # NumericalPhase._tol: a gap's integration error
+            tol[e] = max(tol[e], rtol * scale[e] + atol_max)
         Gs[e, 0] = g_prev[e] + tol[e]
         for c in range(4):
             Gs[e, c + 1] = GI[e, c] + tol[e]
@@ -461,20 +479,311 @@ def _decide(t, q, qd, modes, cand_mask, must, sigma, par, new):
 
 
 @njit(cache=True)
+def _gap_zero(i, t_hit, t0, m, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim, sgn,
+              vel):
+    """:meth:`fricdamp.solvers.event_phase.NumericalPhase._gap_zero_fused`: the zero of gap
+    event i before ``t_hit`` on the stored step holding it (NaN: the search reaches back into
+    an earlier step, the Python loop takes it)."""
+    j = np.searchsorted(TA[:m], t_hit, side="right") - 1
+    j = min(max(j, 0), m - 1)
+    v = vel.copy()
+    span = t_hit - t0
+    dt = 1e-6 * span
+    while dt <= span:
+        ta = t_hit - dt
+        if ta < TA[j]:
+            return np.nan
+        if event_value(j, i, ta, TA, TB, YOLD, FF, modes, sigma, par, kinds, contacts, lim,
+                       sgn, v) > 0:
+            return refine_root(j, i, ta, t_hit, span, 0.0, TA, TB, YOLD, FF, modes, sigma,
+                               par, kinds, contacts, lim, sgn, v)
+        dt *= 4
+    return t_hit
+
+
+@njit(cache=True)
+def _close_gaps(q, qd, hit, par):
+    """:func:`fricdamp.solvers.event_impact.close_gaps`: q moved (M-weighted Gauss-Newton,
+    5 iterations) so that the gaps of the contacts in ``hit`` are zero. False: singular."""
+    gap = np.empty(2)
+    WN = np.empty((7, 2))
+    WT = np.empty((7, 2))
+    wbN = np.empty(2)
+    wbT = np.empty(2)
+    A = np.zeros((4, 4))
+    x = np.empty(4)
+    idx = np.empty(2, dtype=np.int64)
+    n = 0
+    for i in range(2):
+        if hit[i]:
+            idx[n] = i
+            n += 1
+    if n == 0:
+        return True
+    for _ in range(5):
+        _kin_state(q, qd, par, gap, WN, WT, wbN, wbT)
+        qmax = 0.0
+        for k in range(7):
+            qmax = max(qmax, abs(q[k]))
+        done = True
+        for a in range(n):
+            if abs(gap[idx[a]]) > 1e-15 * (1 + qmax):
+                done = False
+        if done:
+            break
+        for a in range(n):
+            x[a] = gap[idx[a]]
+            for b in range(n):
+                acc = 0.0
+                for k in range(7):
+                    acc += WN[k, idx[a]] * par[_MINV + k] * WN[k, idx[b]]
+                A[a, b] = acc
+        if _lu_solve(A, x, n) <= 1e-13:
+            return False
+        for k in range(7):
+            acc = 0.0
+            for a in range(n):
+                acc += WN[k, idx[a]] * x[a]
+            q[k] -= par[_MINV + k] * acc
+    return True
+
+
+@njit(cache=True)
+def _impulse(WN, qd, par, uset, bset, e, qd_plus, Lam):
+    """:func:`fricdamp.solvers.event_impact.impulse` for the two contacts: Newton's impact
+    law as an LCP in the normal impulses of ``uset`` (Lemke), the closed rows of ``bset``
+    eliminated by their Schur complement. Returns Lemke's status (0 solved)."""
+    u = np.empty(2, dtype=np.int64)
+    b = np.empty(2, dtype=np.int64)
+    nu = 0
+    nb = 0
+    for i in range(2):
+        Lam[i] = 0.0
+        if uset[i]:
+            u[nu] = i
+            nu += 1
+        if bset[i]:
+            b[nb] = i
+            nb += 1
+    gm = np.zeros(2)
+    for i in range(2):
+        for k in range(7):
+            gm[i] += WN[k, i] * qd[k]
+    for k in range(7):
+        qd_plus[k] = qd[k]
+    if nu + nb == 0:
+        return 0
+    MiWu = np.empty((7, nu))
+    MiWb = np.empty((7, nb))
+    for k in range(7):
+        for a in range(nu):
+            MiWu[k, a] = par[_MINV + k] * WN[k, u[a]]
+        for a in range(nb):
+            MiWb[k, a] = par[_MINV + k] * WN[k, b[a]]
+    A = np.empty((nu, nu))
+    qv = np.empty(nu)
+    for a in range(nu):
+        qv[a] = (1.0 + e[u[a]]) * gm[u[a]]
+        for c in range(nu):
+            acc = 0.0
+            for k in range(7):
+                acc += WN[k, u[a]] * MiWu[k, c]
+            A[a, c] = acc
+    P = np.empty((nb, nb))
+    Gbu = np.empty((nb, nu))
+    if nb:
+        Gbb = np.empty((nb, nb))
+        for a in range(nb):
+            for c in range(nb):
+                acc = 0.0
+                for k in range(7):
+                    acc += WN[k, b[a]] * MiWb[k, c]
+                Gbb[a, c] = acc
+            for c in range(nu):
+                acc = 0.0
+                for k in range(7):
+                    acc += WN[k, b[a]] * MiWu[k, c]
+                Gbu[a, c] = acc
+        P = np.linalg.pinv(Gbb, rcond=1e-12)
+        PG = P @ Gbu
+        Pg = np.zeros(nb)
+        for a in range(nb):
+            for c in range(nb):
+                Pg[a] += P[a, c] * gm[b[c]]
+        for a in range(nu):
+            for c in range(nu):
+                acc = 0.0
+                for d in range(nb):
+                    acc += Gbu[d, a] * PG[d, c]
+                A[a, c] -= acc
+            acc = 0.0
+            for d in range(nb):
+                acc += Gbu[d, a] * Pg[d]
+            qv[a] -= acc
+    Lu = np.zeros(nu)
+    if nu:
+        S = 0.5 * (A + A.T)
+        Lu, status = lemke_kernel(S, qv, 50 * (nu + 1))
+        if status != 0:
+            return status
+    for a in range(nu):
+        Lam[u[a]] = Lu[a]
+    if nb:
+        rhs = np.empty(nb)
+        for d in range(nb):
+            acc = gm[b[d]]
+            for a in range(nu):
+                acc += Gbu[d, a] * Lu[a]
+            rhs[d] = acc
+        for a in range(nb):
+            acc = 0.0
+            for d in range(nb):
+                acc += P[a, d] * rhs[d]
+            Lam[b[a]] = -acc
+    for k in range(7):
+        acc = 0.0
+        for a in range(nu):
+            acc += MiWu[k, a] * Lu[a]
+        acc2 = 0.0
+        for a in range(nb):
+            acc2 += MiWb[k, a] * Lam[b[a]]
+        qd_plus[k] = qd[k] + acc + acc2
+    return 0
+
+
+@njit(cache=True)
+def _impact(t, q, qd, modes, sigma, hit, uni, rest, par, rtol, atol_max, qd_plus, rec, evk,
+            evold):
+    """:meth:`fricdamp.solvers.event._Run._impact` for the blade damper (Zeno velocity from
+    the gap tolerance): closes the gaps of ``hit`` in q, writes the velocity after the
+    impulse into ``qd_plus``, updates ``modes`` and ``sigma``; ``rec`` = [gamma_N- (2),
+    gamma_N+ (2), impulses (2), energy loss, hit (2), plastic (2)]; ``evk`` per contact the
+    event to log (0 none, 1 impact that stays open, 2 impact that closes, 3 lift-off) with
+    the mode before in ``evold``. Returns 0, or 20 (singular gap closure, failed Lemke)."""
+    if not _close_gaps(q, qd, hit, par):
+        return 20
+    gap = np.empty(2)
+    WN = np.empty((7, 2))
+    WT = np.empty((7, 2))
+    wbN = np.empty(2)
+    wbT = np.empty(2)
+    h = np.empty(7)
+    _kin_state(q, qd, par, gap, WN, WT, wbN, wbT)
+    forces(t, q, qd, par, h)
+    gm = np.zeros(2)
+    vscale = np.zeros(2)
+    vz = np.empty(2)
+    for i in range(2):
+        af = wbN[i]
+        gt = 0.0
+        for k in range(7):
+            gm[i] += WN[k, i] * qd[k]
+            vscale[i] += abs(WN[k, i]) * abs(qd[k])
+            af += WN[k, i] * par[_MINV + k] * h[k]
+            gt += abs(WN[k, i]) * abs(q[k])
+        vz[i] = np.sqrt(2.0 * abs(af) * (rtol * gt + atol_max))
+    vtol = 1e3 * _EPS * max(vscale[0], vscale[1])
+    approaching = np.zeros(2, dtype=np.bool_)
+    plastic = np.zeros(2, dtype=np.bool_)
+    e = np.empty(2)
+    closed = np.zeros(2, dtype=np.bool_)
+    uset = np.zeros(2, dtype=np.bool_)
+    bset = np.zeros(2, dtype=np.bool_)
+    held = np.zeros(2, dtype=np.bool_)
+    for i in range(2):
+        approaching[i] = hit[i] and gm[i] < -vtol
+        plastic[i] = approaching[i] and -gm[i] <= vz[i]
+        e[i] = 0.0 if plastic[i] else rest[i]
+        closed[i] = modes[i] != OPEN
+        uset[i] = (closed[i] and uni[i]) or approaching[i]
+        bset[i] = closed[i] and not uni[i]
+    Lam = np.empty(2)
+    if _impulse(WN, qd, par, uset, bset, e, qd_plus, Lam) != 0:
+        return 20
+    gp = np.zeros(2)
+    for i in range(2):
+        for k in range(7):
+            gp[i] += WN[k, i] * qd_plus[k]
+    u2 = np.empty(2, dtype=np.bool_)
+    b2 = np.empty(2, dtype=np.bool_)
+    for _ in range(2):
+        anyslow = False
+        for i in range(2):
+            if uset[i] and not held[i] and gp[i] > vtol and gp[i] <= vz[i]:
+                held[i] = True
+                anyslow = True
+        if not anyslow:
+            break
+        for i in range(2):
+            u2[i] = uset[i] and not held[i]
+            b2[i] = (closed[i] and not uni[i]) or held[i]
+        if _impulse(WN, qd, par, u2, b2, e, qd_plus, Lam) != 0:
+            return 20
+        for i in range(2):
+            gp[i] = 0.0
+            for k in range(7):
+                gp[i] += WN[k, i] * qd_plus[k]
+    e0 = 0.0
+    e1 = 0.0
+    for k in range(7):
+        e0 += qd[k] * qd[k] / par[_MINV + k]
+        e1 += qd_plus[k] * qd_plus[k] / par[_MINV + k]
+    for i in range(2):
+        plastic[i] = plastic[i] or held[i]
+        rec[i] = gm[i]
+        rec[2 + i] = gp[i]
+        rec[4 + i] = Lam[i]
+        rec[7 + i] = 1.0 if hit[i] else 0.0
+        rec[9 + i] = 1.0 if plastic[i] else 0.0
+    rec[6] = 0.5 * e0 - 0.5 * e1
+    for i in range(2):
+        evk[i] = 0
+        evold[i] = modes[i]
+        gam = 0.0
+        vs = 0.0
+        for k in range(7):
+            gam += WT[k, i] * qd_plus[k]
+            vs += abs(WT[k, i]) * abs(qd_plus[k])
+        moving = abs(gam) > 1e3 * _EPS * vs
+        old = modes[i]
+        if uni[i] and (uset[i] or hit[i]):
+            sep = gp[i] > vtol
+            if sep:
+                modes[i] = OPEN
+            elif old == OPEN or (old == STICK and moving):
+                if moving:
+                    modes[i] = 1 if gam >= 0 else -1
+                else:
+                    modes[i] = STICK
+                sigma[i] = 1.0
+            if hit[i]:
+                evk[i] = 1 if sep else 2
+            elif old != OPEN and sep:
+                evk[i] = 3
+        elif not uni[i] and closed[i] and old == STICK and moving:
+            modes[i] = 1 if gam >= 0 else -1
+    return 0
+
+
+@njit(cache=True)
 def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, max_events,
-               OT, OQ, OQD, OLN, OLT, OM, OE, LOGT, LOGI, cnt, seen):
+               OT, OQ, OQD, OLN, OLT, OM, OE, LOGT, LOGI, cnt, seen, uni, rest, IMPT, IMPR):
     """Phases and switches from the state (st[0] = t, q, q', modes, sigma) towards t1, as
     :meth:`fricdamp.solvers.event._Run.loop` takes them (see the module
     :mod:`fricdamp.models.blade_damper._fastloop`).
 
-    In/out: ``st`` = [t, projection energy], q, qd, modes, sigma (the state at the start of
-    the next phase, before its projection), ``acc`` (3) the work accumulated at that start,
-    ``cnt`` = [n_events, n_phases, n_decisions, n_rhs, n_samples, n_log, phases done,
-    reason]; out: samples (``OT``, ``OQ``, ``OQD``, ``OLN``, ``OLT``, ``OM``, ``OE`` =
-    input, viscous, friction work) from index cnt[4], the event log (``LOGT``; ``LOGI`` =
-    contact, from, to, kind 0 friction / 1 normal) from cnt[5], ``seen`` (9) the
-    configurations met. Everything is committed per completed phase and switch. Returns
-    0 finished (t1 reached), 1 buffers full, else a reason code (see ``REASONS``).
+    In/out: ``st`` = [t, projection energy, impact loss], q, qd, modes, sigma (the state at
+    the start of the next phase, before its projection), ``acc`` (3) the work accumulated at
+    that start, ``cnt`` = [n_events, n_phases, n_decisions, n_rhs, n_samples, n_log, phases
+    done, reason, n_impacts]; out: samples (``OT``, ``OQ``, ``OQD``, ``OLN``, ``OLT``,
+    ``OM``, ``OE`` = input, viscous, friction work, impact loss) from index cnt[4], the event
+    log (``LOGT``; ``LOGI`` = contact, from, to, kind 0 friction / 1 normal / 2 lift-off /
+    3 impact, whose "to" is 1 closed, 0 open) from cnt[5], the impacts (``IMPT`` times,
+    ``IMPR`` rows of :func:`_impact`'s record) from cnt[8], ``seen`` (25) the configurations
+    met (modes -1..3 per contact). ``uni`` marks the unilateral contacts (a released damper:
+    lift-off and impacts with restitution ``rest``). Everything is committed per completed
+    phase and switch. Returns 0 finished (t1 reached), 1 buffers full, else a reason code
+    (see ``REASONS``).
     """
     cap = 64
     TA = np.empty(cap)
@@ -504,6 +813,16 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
     must = np.zeros(2, dtype=np.int64)
     cand = np.zeros(2, dtype=np.bool_)
     fired_slip = np.zeros(2, dtype=np.bool_)
+    lift = np.zeros(2, dtype=np.bool_)
+    gap_hit = np.zeros(2, dtype=np.bool_)
+    mw = np.empty(2, dtype=np.int64)
+    qdi = np.empty(7)
+    rec = np.empty(11)
+    evk = np.empty(2, dtype=np.int64)
+    evold = np.empty(2, dtype=np.int64)
+    atol_max = 0.0
+    for k in range(14):
+        atol_max = max(atol_max, atol[k])
     while True:
         t0 = st[0]
         if cnt[0] >= max_events:
@@ -574,13 +893,32 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
             ta, tb = TA[j], TB[j]
             code, th = _first_event(j, ta, tb, g_prev, GI, scale, stats[3] != 0.0, TA, TB,
                                     YOLD, FF, modes, sigma, par, kinds, contacts, lim, sgn,
-                                    vel, rtol, fired)
+                                    vel, rtol, fired, atol_max)
             if code == 1:
                 cnt[7] = 13
                 return 13
             if code == 0:
                 hit = True
                 t_stop = th
+                # an impact: at the zero of the gap itself (NumericalPhase._gap_zero)
+                ngap = 0
+                nfired = 0
+                ig = -1
+                for e in range(nev):
+                    if fired[e]:
+                        nfired += 1
+                        if kinds[e] == 4:
+                            ngap += 1
+                            ig = e
+                if ngap > 0 and ngap == nfired:
+                    if ngap > 1:
+                        cnt[7] = 19
+                        return 19
+                    t_stop = _gap_zero(ig, th, t0, m, TA, TB, YOLD, FF, modes, sigma, par,
+                                       kinds, contacts, lim, sgn, vel)
+                    if np.isnan(t_stop):
+                        cnt[7] = 19
+                        return 19
                 break
             stats[3] = 0.0
             for e in range(nev):
@@ -601,7 +939,7 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
             cnt[7] = 1
             return 1
         nlog0 = cnt[5]
-        if nlog0 + 4 > LOGT.size:
+        if nlog0 + 8 > LOGT.size or cnt[8] + 1 > IMPT.size:
             cnt[7] = 1
             return 1
         Y = np.empty((_NY, ntimes))
@@ -641,6 +979,7 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
                     OM[n0 + a, i] = modes[i]
                 for p in range(3):
                     OE[n0 + a, p] = acc[p] + Y[14 + p, a]
+                OE[n0 + a, 3] = st[2]
         if not hit:
             # the run ends at t1: commit
             for p in range(3):
@@ -654,7 +993,7 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
             cnt[3] += int(stats[2])
             cnt[4] = n0 + n_rec
             cnt[6] += 1
-            seen[(modes[0] + 1) * 3 + modes[1] + 1] = 1
+            seen[(modes[0] + 1) * 5 + modes[1] + 1] = 1
             cnt[7] = 0
             return 0
         # ---- _Run._switch at t_stop
@@ -666,13 +1005,20 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
         for i in range(2):
             must[i] = 0
             fired_slip[i] = False
+            lift[i] = False
+            gap_hit[i] = False
             sig[i] = sigma[i]
+            mw[i] = modes[i]
         for e in range(nev):
             if not fired[e]:
                 continue
             kd = kinds[e]
             c = contacts[e]
-            if kd == 1:
+            if kd == 3 and uni[c]:
+                lift[c] = True
+            elif kd == 4:
+                gap_hit[c] = True
+            elif kd == 1:
                 must[c] = -1
             elif kd == 2:
                 must[c] = 1
@@ -686,6 +1032,48 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
                 LOGI[nlog, 2] = 1 if sig[c] > 0 else -1
                 LOGI[nlog, 3] = 1
                 nlog += 1
+        # _Run._unilateral_switch: lift-offs, then the impact of the gaps that closed
+        loss = 0.0
+        impacted = False
+        if lift[0] or lift[1] or gap_hit[0] or gap_hit[1]:
+            for i in range(2):
+                if lift[i] and mw[i] != OPEN:
+                    LOGT[nlog] = ts
+                    LOGI[nlog, 0] = i
+                    LOGI[nlog, 1] = mw[i]
+                    LOGI[nlog, 2] = OPEN
+                    LOGI[nlog, 3] = 2
+                    nlog += 1
+                    mw[i] = OPEN
+            for i in range(2):
+                gap_hit[i] = gap_hit[i] and mw[i] == OPEN
+            if gap_hit[0] or gap_hit[1]:
+                if _impact(ts, qp, qdp, mw, sig, gap_hit, uni, rest, par, rtol, atol_max, qdi,
+                           rec, evk, evold) != 0:
+                    cnt[7] = 20
+                    return 20
+                impacted = True
+                loss = rec[6]
+                for k in range(7):
+                    qdp[k] = qdi[k]
+                for i in range(2):
+                    if evk[i] == 0:
+                        continue
+                    LOGT[nlog] = ts
+                    LOGI[nlog, 0] = i
+                    if evk[i] == 3:
+                        LOGI[nlog, 1] = evold[i]
+                        LOGI[nlog, 2] = OPEN
+                        LOGI[nlog, 3] = 2
+                    else:
+                        LOGI[nlog, 1] = OPEN
+                        LOGI[nlog, 2] = 0 if evk[i] == 1 else 1
+                        LOGI[nlog, 3] = 3
+                    nlog += 1
+            for i in range(2):
+                if mw[i] == OPEN:
+                    must[i] = 0
+                    fired_slip[i] = False
         # candidates: stuck, fired slip, or at zero slip velocity (Evaluator.tangent_velocity)
         _kin_state(qp, qdp, par, gap, WN, WT, wbN, wbT)
         pm = np.empty(2, dtype=np.int64)
@@ -696,30 +1084,37 @@ def event_loop(st, q, qd, modes, sigma, par, t1, rtol, atol, max_step, te, acc, 
                 gam += WT[k, i] * qdp[k]
                 vs += abs(WT[k, i]) * abs(qdp[k])
             vs = max(vs, vel[i])
-            cand[i] = modes[i] == STICK or fired_slip[i] or abs(gam) <= 1e3 * _EPS * vs
-            pm[i] = STICK if (cand[i] or must[i] != 0) else modes[i]
+            cand[i] = (mw[i] == STICK or fired_slip[i] or abs(gam) <= 1e3 * _EPS * vs) \
+                and mw[i] != OPEN
+            pm[i] = STICK if (cand[i] or must[i] != 0) else mw[i]
         r, de = project(qp, qdp, pm, par, q2, qd2)
         if r <= 1e-13:
             cnt[7] = 10
             return 10
         for i in range(2):
             cand[i] = cand[i] and must[i] == 0
-        code = _decide(ts, q2, qd2, modes, cand, must, sig, par, new)
+        code = _decide(ts, q2, qd2, mw, cand, must, sig, par, new)
         if code != 0:
             cnt[7] = code
             return code
         for i in range(2):
-            if new[i] != modes[i]:
+            if new[i] != mw[i]:
                 LOGT[nlog] = ts
                 LOGI[nlog, 0] = i
-                LOGI[nlog, 1] = modes[i]
+                LOGI[nlog, 1] = mw[i]
                 LOGI[nlog, 2] = new[i]
                 LOGI[nlog, 3] = 0
                 nlog += 1
         # ---- commit the phase and the switch
         for p in range(3):
             acc[p] += Y[14 + p, ntimes - 1]
-        seen[(modes[0] + 1) * 3 + modes[1] + 1] = 1
+        seen[(modes[0] + 1) * 5 + modes[1] + 1] = 1
+        if impacted:
+            IMPT[cnt[8]] = ts
+            for k in range(11):
+                IMPR[cnt[8], k] = rec[k]
+            cnt[8] += 1
+            st[2] += loss
         for i in range(2):
             sigma[i] = sig[i]
             modes[i] = new[i]
@@ -766,10 +1161,11 @@ class FastLoop:
         to the Python loop (returns False; the run's state is then the start of that
         phase)."""
         from fricdamp.solvers.event import SwitchEvent
+        from fricdamp.solvers.event_impact import Impact
         from fricdamp.solvers.event_switch import MODE_NAMES
 
         te = np.ascontiguousarray(run.t_eval, dtype=float)
-        st = np.array([float(run.t), float(run.proj_energy)])
+        st = np.array([float(run.t), float(run.proj_energy), float(run.impact_loss)])
         q = np.array(run.q, dtype=float)
         qd = np.array(run.qd, dtype=float)
         modes = np.array(run.modes, dtype=np.int64)
@@ -779,9 +1175,11 @@ class FastLoop:
             acc = np.zeros(3)  # energies not wanted (NaN): the kernel's are discarded
         atol = np.concatenate([np.broadcast_to(np.asarray(run.atol, dtype=float), (14,)),
                                np.full(3, 1e300)])
-        cnt = np.array([run.n_events, run.n_phases, run.n_decisions, run.n_rhs, 0, 0, 0, 0],
-                       dtype=np.int64)
-        seen = np.zeros(9, dtype=np.int64)
+        cnt = np.array([run.n_events, run.n_phases, run.n_decisions, run.n_rhs, 0, 0, 0, 0,
+                        0], dtype=np.int64)
+        seen = np.zeros(25, dtype=np.int64)
+        uni = np.ascontiguousarray(run.uni, dtype=np.bool_)
+        rest = np.ascontiguousarray(run.ev.restitution, dtype=float)
         done = 0
         while True:
             cap = int(te.size - np.searchsorted(te, st[0], "right")) + self.SPARE
@@ -789,39 +1187,54 @@ class FastLoop:
             OQ, OQD = np.empty((cap, 7)), np.empty((cap, 7))
             OLN, OLT = np.empty((cap, 2)), np.empty((cap, 2))
             OM = np.empty((cap, 2), dtype=np.int8)
-            OE = np.empty((cap, 3))
-            LOGT = np.empty(4 * self.SPARE)
-            LOGI = np.empty((4 * self.SPARE, 4), dtype=np.int64)
+            OE = np.empty((cap, 4))
+            LOGT = np.empty(8 * self.SPARE)
+            LOGI = np.empty((8 * self.SPARE, 4), dtype=np.int64)
+            IMPT = np.empty(self.SPARE)
+            IMPR = np.empty((self.SPARE, 11))
             cnt[4:] = 0
             with np.errstate(under="ignore"):
                 status = int(self.mod.event_loop(
                     st, q, qd, modes, sigma, self.par, float(run.t1), float(run.rtol), atol,
                     float(run.max_step), te, acc, int(max_events), OT, OQ, OQD, OLN, OLT, OM,
-                    OE, LOGT, LOGI, cnt, seen))
+                    OE, LOGT, LOGI, cnt, seen, uni, rest, IMPT, IMPR))
             done += int(cnt[6])
             n = int(cnt[4])
             if n:
-                e = np.full((n, 3), np.nan) if not run.with_energy else OE[:n]
+                e = np.full((n, 3), np.nan) if not run.with_energy else OE[:n, :3]
                 kin, pot = run._mech(OQ[:n], OQD[:n])
                 run.out.append((OT[:n].copy(), OQ[:n].copy(), OQD[:n].copy(),
                                 OLN[:n].copy(), OLT[:n].copy(), OM[:n].copy(),
                                 e[:, 0].copy(), -e[:, 2], e[:, 1].copy(), kin, pot,
-                                np.full(n, run.impact_loss)))
+                                OE[:n, 3].copy()))
             for j in range(int(cnt[5])):
                 c, a, b, kind = (int(v) for v in LOGI[j])
                 if kind == 1:
                     run.events.append(SwitchEvent(
                         float(LOGT[j]), c, "compression" if a > 0 else "tension",
                         "compression" if b > 0 else "tension", "normal"))
+                elif kind == 2:
+                    run.events.append(SwitchEvent(float(LOGT[j]), c, MODE_NAMES[a], "open",
+                                                  "lift-off"))
+                elif kind == 3:
+                    run.events.append(SwitchEvent(float(LOGT[j]), c, "open",
+                                                  "closed" if b == 1 else "open", "impact"))
                 else:
                     run.events.append(SwitchEvent(float(LOGT[j]), c, MODE_NAMES[a],
                                                   MODE_NAMES[b]))
+            for j in range(int(cnt[8])):
+                r = IMPR[j]
+                run.impacts.append(Impact(
+                    float(IMPT[j]), tuple(int(c) for c in np.flatnonzero(r[7:9])),
+                    r[0:2].copy(), r[2:4].copy(), r[4:6].copy(), float(r[6]),
+                    tuple(int(c) for c in np.flatnonzero(r[9:11]))))
+            run.impact_loss = float(st[2])
             if status != 1:
                 break
         if status not in (0, 1):
             self.stops[status] = self.stops.get(status, 0) + 1
         for code in np.flatnonzero(seen):
-            run.configs.setdefault((int(code) // 3 - 1, int(code) % 3 - 1), None)
+            run.configs.setdefault((int(code) // 5 - 1, int(code) % 5 - 1), None)
         run.t = float(st[0])
         run.proj_energy = float(st[1])
         run.q, run.qd = q, qd

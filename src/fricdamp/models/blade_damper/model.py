@@ -253,9 +253,9 @@ class BladeDamperSystem(ConstrainedSystem):
         (the path before, kept for comparisons; about 3-10 times slower).
     release : bool
         Let the damper lift off the platforms and re-impact them (unilateral normal contacts;
-        default False: bilateral, the paper's no-separation model). The compiled DOP853
-        phases know open contacts and their gap events; every lift-off and impact goes
-        through the event solver's Python loop (the compiled event loop is not used).
+        default False: bilateral, the paper's no-separation model). The compiled kernels
+        know open contacts: the DOP853 phases with their gap events, and the compiled
+        event loop takes the lift-offs and impacts too.
     restitution : float
         Newton's restitution coefficient ``e`` in [0, 1] of the damper-platform impacts
         (with ``release``; default 0: plastic impacts, the damper stays on the platform it
