@@ -1199,7 +1199,7 @@ def design_study(params=None, damper_masses_kg: Sequence[float] = (0.25e-3, 0.5e
         most, first), then the brackets; each process limits BLAS to one thread. The results
         are the same as with ``workers=1`` (each design is computed from the same start).
         The paper-size grid (5 masses x 6 angles x 3 parabolas and the bisections) costs
-        875-950 s of CPU, about 8 minutes on 2 idle cores (benchmarks/bench_blade_damper.py
+        875-950 s of CPU, 482 s of wall on 2 idle cores (benchmarks/bench_blade_damper.py
         ``--grid``).
     release : bool
         Compute the designs beyond lift-off instead of discarding them (issue 14). Every
