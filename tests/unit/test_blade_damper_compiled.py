@@ -184,12 +184,12 @@ def test_compiled_open_contacts_equal_generic_path(contour):
 def test_compiled_release_response_equals_generic():
     """Twelve periods of the released damper beyond lift-off (gamma = 80 deg, 1 g, 8 N at
     52 Hz: it lifts off 6.9 periods in, then bursts of plastic impacts) through the compiled
-    DOP853 phases and the generic path: the same lift-offs and impacts, lift-off and impact
-    times within 1e-8 s and states within 1e-6 of the motion. The paths differ in round-off only, which
-    the step-size control turns into different step sequences, so the two solutions differ by
-    their integration errors (rtol 1e-8 per step, accumulated over ~1,000 steps and 115
-    impacts): measured 3e-8 of the motion (at a step bounded to 2e-4 s: 4e-12, lift-off
-    times 8e-15 s)."""
+    kernels (DOP853 phases and the event loop) and the generic path: the same lift-offs and
+    impacts, lift-off and impact times within 1e-8 s and states within 1e-6 of the motion.
+    The paths differ in round-off only, which the step-size control turns into different
+    step sequences, so the two solutions differ by their integration errors (rtol 1e-8 per
+    step, accumulated over ~1,000 steps and 115 impacts): measured 3e-8 of the motion (at a
+    step bounded to 2e-4 s: 4e-12, lift-off times 8e-15 s)."""
     p = BladeDamperParameters(excitation_amplitude=8.0, excitation_frequency=52.0).with_(
         gamma_deg=80.0)
     T = 1.0 / 52.0

@@ -50,8 +50,8 @@ _RUN = textwrap.dedent('''
         err = str(exc)
     hits = sum(kernel_mod.kernel.stats.cache_hits.values())
     print(json.dumps({"out": out.tolist(), "total": total, "err": err, "hits": hits,
-                      "registries": [m for m in %r if m in sys.modules]}))
-''' % (REGISTRY_ONLY,))
+                      "registries": [m for m in __REGISTRIES__ if m in sys.modules]}))
+''').replace("__REGISTRIES__", repr(REGISTRY_ONLY))
 
 
 def _run(code: str, *args: str, env: dict | None = None) -> dict:
@@ -92,8 +92,8 @@ _HB = textwrap.dedent('''
                             loads=(engine_order_load(n, 1, 0.01),))
     fr = frequency_response(sysm, 0.9, 1.3, harmonics=3, samples=32, max_points=20)
     print(json.dumps({"ok": bool(fr.n_points > 5),
-                      "registries": [m for m in %r if m in sys.modules]}))
-''' % (REGISTRY_ONLY,))
+                      "registries": [m for m in __REGISTRIES__ if m in sys.modules]}))
+''').replace("__REGISTRIES__", repr(REGISTRY_ONLY))
 
 
 @pytest.mark.filterwarnings("ignore")
