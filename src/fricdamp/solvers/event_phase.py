@@ -524,25 +524,15 @@ class NumericalPhase:
 
     def _gap_zero_fused(self, i, t_hit):
         """:meth:`_gap_zero` for one gap event (index i) of a compiled phase: the same search
-        with the compiled event value and Brent on the stored step holding ``t_hit``; None
-        if the search reaches back into an earlier step (the generic search takes it)."""
-        ck, m = self._ck, self._m
-        if m == 0:
+        in compiled code (the kernels' ``gap_zero``, which the compiled event loop uses too)
+        on the stored step holding ``t_hit``; None if the search reaches back into an
+        earlier step (the generic search takes it)."""
+        if self._m == 0:
             return None
-        j = int(np.clip(np.searchsorted(self._TA[:m], t_hit, side="right") - 1, 0, m - 1))
-        args = (self._TA, self._TB, self._YOLD, self._FF, self._modes_c, self.sigma,
-                self._kinds_c, self._contacts_c, self._lim_c, self._sgn_c,
-                self.vel_scale.copy())
-        span = t_hit - self.t0
-        dt = 1e-6 * span
-        while dt <= span:
-            ta = t_hit - dt
-            if ta < self._TA[j]:
-                return None
-            if ck.refine_value(j, i, ta, *args) > 0:
-                return float(ck.refine_root(j, i, ta, t_hit, span, 0.0, *args))
-            dt *= 4
-        return t_hit
+        t = self._ck.gap_zero(i, t_hit, self.t0, self._m, self._TA, self._TB, self._YOLD,
+                              self._FF, self._modes_c, self.sigma, self._kinds_c,
+                              self._contacts_c, self._lim_c, self._sgn_c, self.vel_scale)
+        return None if np.isnan(t) else float(t)
 
     def _tol(self):
         """Round-off level of each event function; for gaps (an integrated position) the

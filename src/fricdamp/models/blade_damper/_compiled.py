@@ -965,6 +965,45 @@ def phase_run(y, f, t_end, modes, sigma, par, rtol, atol, max_step, kinds, conta
 
 
 @njit(cache=True)
+def close_gap_set(q, qd, idx, n, par):
+    """Move q in place (M-weighted Gauss-Newton, at most 5 steps) so that the gaps of the n
+    contacts ``idx[:n]`` are zero to 1e-15 (1 + max |q|); False: a singular step."""
+    gap = np.empty(2)
+    WN = np.empty((7, 2))
+    WT = np.empty((7, 2))
+    wbN = np.empty(2)
+    wbT = np.empty(2)
+    A = np.zeros((4, 4))
+    x = np.empty(4)
+    for it in range(5 if n > 0 else 0):
+        _kin_state(q, qd, par, gap, WN, WT, wbN, wbT)
+        qmax = 0.0
+        for k in range(7):
+            qmax = max(qmax, abs(q[k]))
+        done = True
+        for a in range(n):
+            if abs(gap[idx[a]]) > 1e-15 * (1 + qmax):
+                done = False
+        if done:
+            break
+        for a in range(n):
+            x[a] = gap[idx[a]]
+            for b in range(n):
+                acc = 0.0
+                for k in range(7):
+                    acc += WN[k, idx[a]] * par[_MINV + k] * WN[k, idx[b]]
+                A[a, b] = acc
+        if _lu_solve(A, x, n) <= 1e-13:
+            return False
+        for k in range(7):
+            acc = 0.0
+            for a in range(n):
+                acc += WN[k, idx[a]] * x[a]
+            q[k] -= par[_MINV + k] * acc
+    return True
+
+
+@njit(cache=True)
 def project(q, qd, modes, par, q_out, qd_out):
     """:meth:`fricdamp.solvers.event_switch.Evaluator.project` for the blade damper: Gauss-Newton
     (M-weighted) on the closed normal gaps (an open contact, mode ``OPEN``, is free), then the
@@ -987,32 +1026,8 @@ def project(q, qd, modes, par, q_out, qd_out):
             nc += 1
     for k in range(7):
         q_out[k] = q[k]
-    qmax = 0.0
-    for it in range(5 if nc > 0 else 0):
-        _kin_state(q_out, qd, par, gap, WN, WT, wbN, wbT)
-        qmax = 0.0
-        for k in range(7):
-            qmax = max(qmax, abs(q_out[k]))
-        done = True
-        for a in range(nc):
-            if abs(gap[closed[a]]) > 1e-15 * (1 + qmax):
-                done = False
-        if done:
-            break
-        for a in range(nc):
-            x[a] = gap[closed[a]]
-            for b in range(nc):
-                acc = 0.0
-                for k in range(7):
-                    acc += WN[k, closed[a]] * par[_MINV + k] * WN[k, closed[b]]
-                A[a, b] = acc
-        if _lu_solve(A, x, nc) <= 1e-13:
-            return 0.0, 0.0
-        for k in range(7):
-            acc = 0.0
-            for a in range(nc):
-                acc += WN[k, closed[a]] * x[a]
-            q_out[k] -= par[_MINV + k] * acc
+    if not close_gap_set(q_out, qd, closed, nc, par):
+        return 0.0, 0.0
     _kin_state(q_out, qd, par, gap, WN, WT, wbN, wbT)
     m = 0
     for a in range(nc):
@@ -1246,6 +1261,14 @@ class BladeDamperKernels:
         return self.mod.dip_search(int(j), int(i), float(ta), float(tb), float(tol_i), TA, TB,
                                    YOLD, FF, modes, sigma, self.par, kinds, contacts, lim, sgn,
                                    vel)
+
+    def gap_zero(self, i, t_hit, t0, m, TA, TB, YOLD, FF, modes, sigma, kinds, contacts, lim,
+                 sgn, vel):
+        """The zero of gap event i before ``t_hit`` on the stored step holding it (NaN: on
+        an earlier step; see ``_gap_zero`` of :mod:`fricdamp.models.blade_damper._fastloop`);
+        ``vel`` is not changed."""
+        return self.mod._gap_zero(int(i), float(t_hit), float(t0), int(m), TA, TB, YOLD, FF,
+                                  modes, sigma, self.par, kinds, contacts, lim, sgn, vel)
 
     def refine_value(self, j, i, t, TA, TB, YOLD, FF, modes, sigma, kinds, contacts, lim,
                      sgn, vel):

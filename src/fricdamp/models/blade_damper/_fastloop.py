@@ -505,47 +505,13 @@ def _gap_zero(i, t_hit, t0, m, TA, TB, YOLD, FF, modes, sigma, par, kinds, conta
 def _close_gaps(q, qd, hit, par):
     """:func:`fricdamp.solvers.event_impact.close_gaps`: q moved (M-weighted Gauss-Newton,
     5 iterations) so that the gaps of the contacts in ``hit`` are zero. False: singular."""
-    gap = np.empty(2)
-    WN = np.empty((7, 2))
-    WT = np.empty((7, 2))
-    wbN = np.empty(2)
-    wbT = np.empty(2)
-    A = np.zeros((4, 4))
-    x = np.empty(4)
     idx = np.empty(2, dtype=np.int64)
     n = 0
     for i in range(2):
         if hit[i]:
             idx[n] = i
             n += 1
-    if n == 0:
-        return True
-    for _ in range(5):
-        _kin_state(q, qd, par, gap, WN, WT, wbN, wbT)
-        qmax = 0.0
-        for k in range(7):
-            qmax = max(qmax, abs(q[k]))
-        done = True
-        for a in range(n):
-            if abs(gap[idx[a]]) > 1e-15 * (1 + qmax):
-                done = False
-        if done:
-            break
-        for a in range(n):
-            x[a] = gap[idx[a]]
-            for b in range(n):
-                acc = 0.0
-                for k in range(7):
-                    acc += WN[k, idx[a]] * par[_MINV + k] * WN[k, idx[b]]
-                A[a, b] = acc
-        if _lu_solve(A, x, n) <= 1e-13:
-            return False
-        for k in range(7):
-            acc = 0.0
-            for a in range(n):
-                acc += WN[k, idx[a]] * x[a]
-            q[k] -= par[_MINV + k] * acc
-    return True
+    return close_gap_set(q, qd, idx, n, par)
 
 
 @njit(cache=True)
